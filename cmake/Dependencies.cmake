@@ -1,0 +1,27 @@
+# How each Debian package is found: see ../shared/notes/debian-packages.md (kept in docs/build.md).
+find_package(Eigen3 3.4 REQUIRED CONFIG)
+find_package(Spectra 1.0 REQUIRED CONFIG)
+find_package(CLI11 REQUIRED CONFIG)
+find_package(toml11 REQUIRED CONFIG)
+
+# The serial HDF5 (the MPI build comes in with SUNDIALS; never use pkg-config "hdf5").
+find_package(HDF5 REQUIRED COMPONENTS C)
+if(HDF5_IS_PARALLEL)
+  message(FATAL_ERROR "Found the parallel (MPI) HDF5 at ${HDF5_INCLUDE_DIRS}; the serial one is needed "
+                      "(Debian: libhdf5-dev puts it in /usr/include/hdf5/serial).")
+endif()
+
+find_package(PkgConfig REQUIRED)
+pkg_check_modules(ARPACK REQUIRED IMPORTED_TARGET arpack)
+
+# CHOLMOD (SuiteSparse): headers in /usr/include/suitesparse, used through Eigen's CholmodSupport.
+find_path(CHOLMOD_INCLUDE_DIR cholmod.h PATH_SUFFIXES suitesparse REQUIRED)
+find_library(CHOLMOD_LIBRARY cholmod REQUIRED)
+find_library(SUITESPARSECONFIG_LIBRARY suitesparseconfig REQUIRED)
+add_library(nvh_cholmod INTERFACE)
+target_include_directories(nvh_cholmod SYSTEM INTERFACE ${CHOLMOD_INCLUDE_DIR})
+target_link_libraries(nvh_cholmod INTERFACE ${CHOLMOD_LIBRARY} ${SUITESPARSECONFIG_LIBRARY})
+
+if(NVH_BUILD_TESTS)
+  find_package(GTest REQUIRED)
+endif()

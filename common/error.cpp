@@ -1,0 +1,30 @@
+#include "common/error.hpp"
+
+#include <utility>
+
+namespace nvh {
+namespace {
+
+std::string format(const std::string& message, const SourceLocation& where, const std::string& key) {
+  std::string out;
+  if (!where.file.empty()) {
+    out += where.file;
+    if (where.line > 0) out += ":" + std::to_string(where.line);
+    if (where.column > 0) out += ":" + std::to_string(where.column);
+    out += ": ";
+  }
+  if (!key.empty()) out += "'" + key + "': ";
+  return out + message;
+}
+
+}  // namespace
+
+Error::Error(const std::string& message) : std::runtime_error(message), message_(message) {}
+
+Error::Error(const std::string& message, SourceLocation where, std::string key)
+    : std::runtime_error(format(message, where, key)),
+      message_(message),
+      where_(std::move(where)),
+      key_(std::move(key)) {}
+
+}  // namespace nvh

@@ -1,0 +1,17 @@
+#pragma once
+// SHA-256 (FIPS 180-4), for input hashes in provenance. Small and dependency-free.
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <span>
+#include <string>
+
+namespace nvh {
+
+/// Lower-case hex digest of a byte buffer.
+std::string sha256_hex(std::span<const std::byte> data);
+std::string sha256_hex(const std::string& text);
+/// Lower-case hex digest of a file's contents; nvh::Error naming the file if it cannot be read.
+std::string sha256_file(const std::filesystem::path& path);
+
+}  // namespace nvh

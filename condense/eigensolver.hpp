@@ -1,0 +1,58 @@
+#pragma once
+// The generalized symmetric eigenproblem K x = lambda M x of structural dynamics (lambda = omega^2),
+// for the lowest modes: K symmetric positive semi-definite (singular for a free-free body), M symmetric
+// positive definite. Units: K in N/m (N m/rad), M in kg (kg m^2), lambda in rad^2/s^2.
+//
+// Backends:
+// - kSpectra: shift-invert Lanczos (Spectra::SymGEigsShiftSolver) on a CHOLMOD supernodal Cholesky
+//   factorization of K - sigma M with a negative shift sigma, so a singular (free-free) K factorizes and
+//   the rigid-body modes (lambda = 0) are found like any other.
+// - kArpack: ARPACK's dsaupd/dseupd in shift-invert mode 3 on the same factorization (for comparison).
+// - kDense: Eigen's GeneralizedSelfAdjointEigenSolver on dense copies (small or reduced models, tests).
+//
+// With fmax_hz set, the request grows the number of modes until the highest one found lies above fmax,
+// reusing the factorization. Every returned mode passes a residual check.
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+#include <string>
+
+namespace nvh::condense {
+
+using SparseMatrix = Eigen::SparseMatrix<double>;  // column-major
+
+enum class EigenBackend { kSpectra, kArpack, kDense };
+
+/// Parse "spectra" | "arpack" | "dense"; nvh::Error listing the choices otherwise.
+EigenBackend parse_eigen_backend(const std::string& name);
+std::string to_string(EigenBackend backend);
+
+struct EigenRequest {
+  int modes = 0;         ///< the lowest `modes` eigenpairs (used when > 0)
+  double fmax_hz = 0.0;  ///< or all eigenpairs with frequency <= fmax_hz (used when modes == 0)
+  /// Shift sigma (rad^2/s^2, must be < 0). 0 = automatic: -(2 pi f_s)^2 with f_s = max(1 Hz, fmax/100),
+  /// or from the matrices' diagonal when only `modes` is given.
+  double shift = 0.0;
+  EigenBackend backend = EigenBackend::kSpectra;
+  double tolerance = 1e-10;      ///< convergence tolerance of the Lanczos iteration
+  double residual_limit = 1e-6;  ///< accept a mode if ||K x - lambda M x|| / (||K x|| + |lambda| ||M x||) <= limit
+};
+
+struct EigenResult {
+  Eigen::VectorXd eigenvalues;  ///< lambda = omega^2, ascending (tiny negatives of rigid modes kept as computed)
+  Eigen::MatrixXd vectors;      ///< columns M-orthonormal: X^T M X = I
+  Eigen::VectorXd residuals;    ///< relative residual of each mode (see residual_limit)
+  double shift = 0.0;           ///< the shift used (0 for kDense)
+  int matrix_operations = 0;    ///< number of solves with the factorization (cost measure)
+};
+
+/// Lowest eigenpairs of K x = lambda M x. Throws nvh::Error if the factorization fails (K - sigma M not
+/// positive definite: M not positive definite), the iteration does not converge, a residual exceeds the
+/// limit, or the request asks for more modes than the problem has.
+EigenResult solve_eigenproblem(const SparseMatrix& K, const SparseMatrix& M, const EigenRequest& request);
+
+/// Frequency in Hz of an eigenvalue lambda = omega^2 (negative round-off gives 0).
+double frequency_hz(double eigenvalue);
+/// Eigenvalue omega^2 of a frequency in Hz.
+double eigenvalue_of_hz(double hz);
+
+}  // namespace nvh::condense
