@@ -1,1 +1,247 @@
-// placeholder
+#include "condense/component_reader.hpp"
+
+#include <cmath>
+#include <set>
+#include <sstream>
+
+#include "common/input.hpp"
+
+namespace nvh::condense {
+namespace {
+
+using input::Range;
+using input::Table;
+
+Material read_material(const std::string& name, const Table& t) {
+  Material m;
+  m.name = name;
+  m.E = t.number("E", Range::positive());
+  m.nu = t.number("nu", Range::open(-1.0, 0.5));
+  m.rho = t.number("rho", Range::positive());
+  t.finish();
+  return m;
+}
+
+std::string segment_text(const std::vector<Vec3>& points, int s) {
+  std::ostringstream o;
+  const Vec3& a = points[s];
+  const Vec3& b = points[s + 1];
+  o << "segment " << s + 1 << " ([" << a[0] << ", " << a[1] << ", " << a[2] << "] -> [" << b[0] << ", "
+    << b[1] << ", " << b[2] << "])";
+  return o.str();
+}
+
+void read_beam(const Table& t, Component& c) {
+  BeamGeometry& beam = c.beam;
+  beam.where = t.location();
+  beam.material = t.string("material");
+  if (!c.materials.count(beam.material)) t.fail("material", "unknown material \"" + beam.material + "\"");
+  beam.points = t.vec3_list("points");
+  if (beam.points.size() < 2) t.fail("points", "expected at least 2 points (one segment)");
+  const int segments = static_cast<int>(beam.points.size()) - 1;
+  for (int s = 0; s < segments; ++s) {
+    const Vec3& a = beam.points[s];
+    const Vec3& b = beam.points[s + 1];
+    const double length = std::hypot(b[0] - a[0], b[1] - a[1], b[2] - a[2]);
+    if (length <= c.point_tolerance) {
+      t.fail("points", segment_text(beam.points, s) + " has zero length; consecutive points must differ");
+    }
+  }
+  beam.elements_per_segment =
+      static_cast<int>(t.optional_integer("elements_per_segment", Range::closed(1, 100000)).value_or(8));
+
+  // Sections: each covers a range of segments (1-based, inclusive); every segment needs exactly one.
+  std::vector<int> covered_by(segments, 0);
+  beam.segment_sections.assign(segments, BeamSection{});
+  const std::vector<Table> sections = t.table_array("section");
+  for (std::size_t i = 0; i < sections.size(); ++i) {
+    const Table& st = sections[i];
+    BeamSection sec;
+    sec.where = st.location();
+    sec.A = st.number("A", Range::positive());
+    sec.Iy = st.number("Iy", Range::positive());
+    sec.Iz = st.number("Iz", Range::positive());
+    sec.J = st.number("J", Range::positive());
+    sec.shear_factor = st.optional_number("shear_factor", Range::open(0.0, 2.0));
+    sec.rotary_inertia = st.optional_boolean("rotary_inertia").value_or(true);
+    sec.y_axis = st.optional_vec3("y_axis");
+    if (sec.y_axis && std::hypot((*sec.y_axis)[0], (*sec.y_axis)[1], (*sec.y_axis)[2]) == 0.0) {
+      st.fail("y_axis", "expected a non-zero direction");
+    }
+    sec.material = st.optional_string("material").value_or("");
+    if (!sec.material.empty() && !c.materials.count(sec.material)) {
+      st.fail("material", "unknown material \"" + sec.material + "\"");
+    }
+    std::vector<std::int64_t> range = st.integers("segments", Range::closed(1, segments));
+    if (range.size() == 1) range.push_back(range[0]);
+    if (range.size() != 2 || range[0] > range[1]) {
+      st.fail("segments", "expected [first, last] with 1 <= first <= last <= " + std::to_string(segments));
+    }
+    for (std::int64_t s = range[0]; s <= range[1]; ++s) {
+      if (covered_by[s - 1]) {
+        st.fail("segments", "segment " + std::to_string(s) + " already has a section (beam.section[" +
+                                std::to_string(covered_by[s - 1]) + "])");
+      }
+      covered_by[s - 1] = static_cast<int>(i + 1);
+      beam.segment_sections[s - 1] = sec;
+    }
+    st.finish();
+  }
+  for (int s = 0; s < segments; ++s) {
+    if (!covered_by[s]) {
+      t.fail("section", segment_text(beam.points, s) + " has no section: add a [[beam.section]] with "
+                        "segments = [" + std::to_string(s + 1) + ", " + std::to_string(s + 1) + "] or a range "
+                        "that covers it");
+    }
+  }
+
+  for (const Table& mt : t.table_array("mass")) {
+    PointMass pm;
+    pm.where = mt.location();
+    pm.at = mt.vec3("at");
+    pm.m = mt.number("m", Range::non_negative());
+    if (auto j = mt.optional_vec3("J")) {
+      for (int k = 0; k < 3; ++k) {
+        if ((*j)[k] < 0.0) mt.fail("J", "expected moments of inertia >= 0 (kg m^2)");
+        pm.J[k] = (*j)[k];
+      }
+    }
+    mt.finish();
+    beam.masses.push_back(pm);
+  }
+  for (const Table& rt : t.table_array("rigid")) {
+    RigidLink link;
+    link.where = rt.location();
+    link.from = rt.vec3("from");
+    link.to = rt.vec3("to");
+    rt.finish();
+    beam.rigid_links.push_back(link);
+  }
+  t.finish();
+}
+
+std::vector<NamedPoint> read_points(const Table& root, const std::string& key) {
+  std::vector<NamedPoint> points;
+  std::set<std::string> names;
+  for (const Table& pt : root.table_array(key)) {
+    NamedPoint p;
+    p.where = pt.location();
+    p.name = pt.string("name");
+    if (p.name.empty()) pt.fail("name", "expected a non-empty name");
+    if (!names.insert(p.name).second) pt.fail("name", "the name \"" + p.name + "\" is used twice in [[" + key + "]]");
+    p.at = pt.vec3("at");
+    pt.finish();
+    points.push_back(p);
+  }
+  return points;
+}
+
+ReductionSettings read_reduction(const Table& t) {
+  ReductionSettings r;
+  r.where = t.location();
+  const std::string method = t.choice("method", {"modal", "craig-bampton", "guyan"});
+  r.method = method == "modal" ? ReductionMethod::kModal
+             : method == "guyan" ? ReductionMethod::kGuyan
+                                 : ReductionMethod::kCraigBampton;
+  const auto fmax = t.optional_number("fmax", Range::positive());
+  const auto modes = t.optional_integer("modes", Range::closed(1, 100000));
+  if (fmax && modes) t.fail("modes", "give either fmax or modes, not both");
+  if (!fmax && !modes && r.method != ReductionMethod::kGuyan) {
+    t.fail("expected fmax (Hz) or modes (a count) in [reduction]");
+  }
+  r.fmax_hz = fmax.value_or(0.0);
+  r.modes = static_cast<int>(modes.value_or(0));
+  r.orthonormalize = t.optional_boolean("orthonormalize").value_or(true);
+  r.damping_ratio = t.number_or("damping_ratio", 0.0, Range{0.0, 1.0, false, true});
+  t.finish();
+  return r;
+}
+
+Component read(const input::Document& doc, const std::filesystem::path& file) {
+  Component c;
+  c.file = file;
+  const Table root = doc.root();
+  const Table comp = root.table("component");
+  c.name = comp.string("name");
+  c.kind = comp.choice("kind", {"beam"});
+  comp.finish();
+
+  const Table materials = root.table("material");
+  for (const std::string& name : materials.table_keys()) c.materials[name] = read_material(name, materials.table(name));
+  if (c.materials.empty()) materials.fail("expected at least one [material.NAME] table");
+  materials.finish();
+
+  read_beam(root.table("beam"), c);
+
+  for (const Table& ft : root.table_array("fix")) {
+    Support s;
+    s.where = ft.location();
+    s.at = ft.vec3("at");
+    const std::string dofs = ft.string("dofs");
+    try {
+      s.dofs = parse_dof_list(dofs);
+    } catch (const Error& e) {
+      ft.fail("dofs", e.message());
+    }
+    ft.finish();
+    c.supports.push_back(s);
+  }
+  c.interfaces = read_points(root, "interface");
+  c.observers = read_points(root, "observe");
+  c.reduction = read_reduction(root.table("reduction"));
+  root.finish();
+  return c;
+}
+
+}  // namespace
+
+std::array<bool, 6> parse_dof_list(const std::string& text) {
+  static const char* kNames[6] = {"x", "y", "z", "rx", "ry", "rz"};
+  std::array<bool, 6> mask{};
+  std::istringstream words(text);
+  std::string w;
+  int count = 0;
+  while (words >> w) {
+    ++count;
+    if (w == "all") {
+      mask.fill(true);
+      continue;
+    }
+    bool found = false;
+    for (int d = 0; d < 6; ++d) {
+      if (w == kNames[d]) {
+        mask[d] = true;
+        found = true;
+      }
+    }
+    if (!found) {
+      throw Error("expected DOF names from \"x y z rx ry rz\" (or \"all\"), got \"" + w + "\"");
+    }
+  }
+  if (count == 0) throw Error("expected at least one DOF name from \"x y z rx ry rz\"");
+  return mask;
+}
+
+Component read_component(const std::filesystem::path& file) {
+  const input::Document doc = input::Document::load(file);
+  return read(doc, file);
+}
+
+Component parse_component(const std::string& text, const std::string& name) {
+  const input::Document doc = input::Document::parse(text, name);
+  return read(doc, name);
+}
+
+std::string to_string(ReductionMethod method) {
+  switch (method) {
+    case ReductionMethod::kModal:
+      return "modal";
+    case ReductionMethod::kCraigBampton:
+      return "craig-bampton";
+    case ReductionMethod::kGuyan:
+      return "guyan";
+  }
+  return "?";
+}
+
+}  // namespace nvh::condense

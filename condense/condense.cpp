@@ -1,1 +1,156 @@
-// placeholder
+#include "condense/condense.hpp"
+
+#include <Eigen/SVD>
+#include <algorithm>
+#include <map>
+#include <sstream>
+
+#include "condense/beam_model.hpp"
+#include "condense/reduction.hpp"
+
+namespace nvh::condense {
+namespace {
+
+const char* kDofNames[6] = {"x", "y", "z", "rx", "ry", "rz"};
+
+/// Node index of each named point; error located at the point's entry if it is not on the model.
+std::vector<int> locate(const BeamModel& model, const std::vector<NamedPoint>& points, double tolerance,
+                        const std::string& what) {
+  std::vector<int> nodes;
+  for (const NamedPoint& p : points) {
+    const int n = model.find_node(p.at, tolerance);
+    if (n < 0) {
+      std::ostringstream at;
+      at << "[" << p.at[0] << ", " << p.at[1] << ", " << p.at[2] << "]";
+      throw Error("the " + what + " point \"" + p.name + "\" at " + at.str() +
+                      " is not on the model: put it on a station or element node of the beam, or at the end "
+                      "of a [[beam.rigid]] link (tolerance " + std::to_string(tolerance) + " m)",
+                  p.where, "at");
+    }
+    nodes.push_back(n);
+  }
+  return nodes;
+}
+
+PointSet point_set(const BeamModel& model, const std::vector<NamedPoint>& points, const std::vector<int>& nodes,
+                   const Eigen::MatrixXd& shapes) {
+  PointSet set;
+  set.position.resize(static_cast<Eigen::Index>(points.size()), 3);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    set.names.push_back(points[i].name);
+    set.position.row(i) = model.nodes[nodes[i]].transpose();
+    set.shapes.push_back(shapes.middleRows(6 * nodes[i], 6));
+  }
+  return set;
+}
+
+}  // namespace
+
+void apply_options(Component& component, const CondenseOptions& options) {
+  ReductionSettings& r = component.reduction;
+  if (options.fmax_hz) {
+    r.fmax_hz = *options.fmax_hz;
+    r.modes = 0;
+  }
+  if (options.modes) {
+    r.modes = *options.modes;
+    r.fmax_hz = 0.0;
+  }
+  if (options.method) r.method = *options.method;
+}
+
+int count_rigid_body_modes(const BeamModel& model) {
+  const Eigen::MatrixXd R = model.rigid_body_field();
+  std::vector<int> rows;
+  for (int d = 0; d < model.all_dofs(); ++d)
+    if (model.supported_dof[d]) rows.push_back(d);
+  if (rows.empty()) return 6;
+  Eigen::MatrixXd held(rows.size(), 6);
+  for (std::size_t i = 0; i < rows.size(); ++i) held.row(i) = R.row(rows[i]);
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(held);
+  svd.setThreshold(1e-9);
+  return 6 - static_cast<int>(svd.rank());
+}
+
+Superelement condense_component(const Component& c, EigenBackend backend, const Logger& log, StageTimer* timer) {
+  const BeamModel model = build_beam_model(c);
+  const std::vector<int> interface_nodes = locate(model, c.interfaces, c.point_tolerance, "interface");
+  const std::vector<int> observer_nodes = locate(model, c.observers, c.point_tolerance, "observation");
+  const SparseMatrix K = model.stiffness();
+  const SparseMatrix M = model.mass();
+  log.info("model: " + std::to_string(model.nodes.size()) + " nodes, " + std::to_string(model.element_count) +
+           " beam elements, " + std::to_string(model.free_dofs()) + " free DOF");
+  if (timer) timer->lap("assemble");
+
+  // Boundary DOF of Craig-Bampton and Guyan: the free DOF of each interface node (its master's for a
+  // rigid-link end), each once.
+  ReductionInput in;
+  in.stiffness = &K;
+  in.mass = &M;
+  in.settings = c.reduction;
+  in.backend = backend;
+  in.rigid_body_modes = count_rigid_body_modes(model);
+  std::map<int, bool> taken;
+  // Free index of each master DOF (the identity entries of T).
+  std::vector<int> free_of_dof(model.all_dofs(), -1);
+  for (int col = 0; col < model.transform.outerSize(); ++col) {
+    for (SparseMatrix::InnerIterator it(model.transform, col); it; ++it) {
+      const int node = static_cast<int>(it.row()) / 6;
+      if (model.master_of[node] == node && it.value() == 1.0) free_of_dof[it.row()] = col;
+    }
+  }
+  for (std::size_t i = 0; i < c.interfaces.size(); ++i) {
+    const int master = model.master_of[interface_nodes[i]];
+    for (int d = 0; d < 6; ++d) {
+      const int f = free_of_dof[6 * master + d];
+      if (f < 0 || taken.count(f)) continue;
+      taken[f] = true;
+      in.boundary_dofs.push_back(f);
+      in.boundary_names.push_back(c.interfaces[i].name + "." + kDofNames[d]);
+    }
+  }
+  // Ascending boundary order keeps the names aligned with the basis columns.
+  std::vector<std::size_t> order(in.boundary_dofs.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::sort(order.begin(), order.end(), [&](auto a, auto b) { return in.boundary_dofs[a] < in.boundary_dofs[b]; });
+  std::vector<int> dofs;
+  std::vector<std::string> names;
+  for (std::size_t i : order) {
+    dofs.push_back(in.boundary_dofs[i]);
+    names.push_back(in.boundary_names[i]);
+  }
+  in.boundary_dofs = dofs;
+  in.boundary_names = names;
+
+  const ReducedModel r = reduce(in, log);
+  if (timer) timer->lap("reduce");
+
+  const Eigen::MatrixXd shapes = model.transform * r.basis;  // 6N x n nodal shapes
+  Superelement se;
+  se.name = c.name;
+  se.kind = c.kind;
+  se.method = to_string(c.reduction.method);
+  se.orthonormalized = c.reduction.method == ReductionMethod::kModal || c.reduction.orthonormalize;
+  se.damping_ratio = c.reduction.damping_ratio;
+  se.rigid_body_modes_removed = r.rigid_body_modes_removed;
+  se.rigid_body_modes_contained = r.rigid_body_modes_contained;
+  se.frequency_hz = r.frequency_hz;
+  se.fixed_interface_hz = r.fixed_interface_hz;
+  se.coordinates = r.coordinates;
+  se.mass = r.mass;
+  se.stiffness = r.stiffness;
+  se.damping = r.damping;
+  se.interfaces = point_set(model, c.interfaces, interface_nodes, shapes);
+  se.observers = point_set(model, c.observers, observer_nodes, shapes);
+  se.inertia = rigid_body_inertia(model);
+  se.invariants = modal_invariants(model, shapes);
+  se.node_count = static_cast<int>(model.nodes.size());
+  se.element_count = model.element_count;
+  se.dof_count = model.all_dofs();
+  se.free_dof_count = model.free_dofs();
+  se.max_residual = r.max_residual;
+  if (timer) timer->lap("invariants");
+  return se;
+}
+
+}  // namespace nvh::condense

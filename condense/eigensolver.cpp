@@ -1,1 +1,568 @@
-// placeholder
+// The generalized symmetric eigenproblem K x = lambda M x (see eigensolver.hpp).
+//
+// Shift-invert (Ericsson & Ruhe 1980; Grimes, Lewis & Simon 1994): with a shift sigma < 0 the matrix
+// K - sigma M is positive definite even for a singular (free-free) K, so it has a Cholesky factorization
+// (CHOLMOD, supernodal). The Lanczos iteration in the M inner product then runs on
+// OP = (K - sigma M)^-1 M, whose eigenvalues nu = 1 / (lambda - sigma) are largest for the lowest lambda
+// and well separated there; lambda = sigma + 1 / nu. Both iterative backends (Spectra's
+// SymGEigsShiftSolver and ARPACK's dsaupd/dseupd in mode 3) use the same factorization; the dense backend
+// (Eigen's GeneralizedSelfAdjointEigenSolver: Cholesky of M, then a standard symmetric eigenproblem) is
+// the reference for small models.
+//
+// Post-processing common to all backends: eigenpairs sorted ascending, vectors M-orthonormalized
+// (normalization plus modified Gram-Schmidt in the M inner product within clusters of equal eigenvalues,
+// twice - "twice is enough", Parlett), residual of every mode checked against the request's limit.
+#include "condense/eigensolver.hpp"
+
+#include <Spectra/MatOp/SparseSymMatProd.h>
+#include <Spectra/SymGEigsShiftSolver.h>
+#include <Eigen/CholmodSupport>
+#include <Eigen/Eigenvalues>
+#include <arpack.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <iomanip>
+#include <limits>
+#include <numbers>
+#include <numeric>
+#include <optional>
+#include <sstream>
+#include <vector>
+
+#include "common/error.hpp"
+
+namespace nvh::condense {
+namespace {
+
+constexpr double kTwoPi = 2.0 * std::numbers::pi;
+constexpr double kEpsilon = std::numeric_limits<double>::epsilon();
+/// Models up to this size always go through the dense solver (cheaper and exact enough).
+constexpr Eigen::Index kDenseSize = 300;
+/// First guess of the number of modes when only fmax is given; doubled until fmax is passed.
+constexpr int kInitialModes = 20;
+/// The automatic fallback to the dense solver (fmax above nearly all modes) refuses larger models.
+constexpr Eigen::Index kDenseFallbackLimit = 10000;
+/// Restarts of the implicitly restarted Lanczos iteration before giving up (per attempt).
+constexpr int kMaxRestarts = 1000;
+
+std::string str(double value) {
+  std::ostringstream out;
+  out << std::setprecision(6) << value;
+  return out.str();
+}
+
+/// ||A||_1: largest column sum of absolute values (= ||A||_inf for a symmetric A).
+double norm1(const SparseMatrix& a) {
+  double result = 0.0;
+  for (Eigen::Index j = 0; j < a.outerSize(); ++j) {
+    double column = 0.0;
+    for (SparseMatrix::InnerIterator it(a, j); it; ++it) column += std::abs(it.value());
+    result = std::max(result, column);
+  }
+  return result;
+}
+
+bool all_finite(const SparseMatrix& a) {
+  for (Eigen::Index j = 0; j < a.outerSize(); ++j)
+    for (SparseMatrix::InnerIterator it(a, j); it; ++it)
+      if (!std::isfinite(it.value())) return false;
+  return true;
+}
+
+/// The symmetric matrix to work with: `a` itself if exactly symmetric, its symmetric part if the
+/// asymmetry is round-off (both the factorization, which reads the lower triangle, and the residual
+/// check, which uses the full matrix, must see the same matrix); nvh::Error otherwise.
+std::optional<SparseMatrix> symmetric_part(const SparseMatrix& a, const char* name) {
+  const SparseMatrix at = a.transpose();
+  const SparseMatrix difference = a - at;
+  const double asymmetry = norm1(difference);
+  if (asymmetry == 0.0) return std::nullopt;
+  const double scale = norm1(a);
+  if (asymmetry > 1e-10 * scale) {
+    throw Error(std::string("the ") + name + " matrix is not symmetric (||A - A^T||_1 = " + str(asymmetry) +
+                ", ||A||_1 = " + str(scale) + "); the full symmetric matrix must be stored");
+  }
+  return SparseMatrix(0.5 * (a + at));
+}
+
+/// Shift-invert operator of Spectra's OpType concept: y = (K - sigma M)^-1 x on a CHOLMOD supernodal
+/// Cholesky factorization, computed once and reused by every solve (and every retry with more modes).
+class ShiftInvertOperator {
+ public:
+  using Scalar = double;
+
+  ShiftInvertOperator(const SparseMatrix& K, const SparseMatrix& M, double sigma) : K_(K), M_(M) {
+    factorize(sigma);
+  }
+
+  Eigen::Index rows() const { return K_.rows(); }
+  Eigen::Index cols() const { return K_.cols(); }
+  double shift() const { return sigma_; }
+  int solves() const { return solves_; }
+
+  /// Called by Spectra with the solver's shift; refactorizes only if it differs from the factored one.
+  void set_shift(double sigma) {
+    if (sigma != sigma_) factorize(sigma);
+  }
+
+  void perform_op(const double* x_in, double* y_out) const {
+    Eigen::Map<const Eigen::VectorXd> x(x_in, rows());
+    Eigen::Map<Eigen::VectorXd> y(y_out, rows());
+    y = factor_.solve(x);
+    ++solves_;
+  }
+
+ private:
+  /// CHOLMOD's factor with access to the failing column (CHOLMOD's L->minor, in the permuted order).
+  class Factor : public Eigen::CholmodSupernodalLLT<SparseMatrix, Eigen::Lower> {
+   public:
+    /// The DOF (original numbering) at which the factorization broke down, -1 if unknown.
+    Eigen::Index failed_dof() const {
+      if (m_cholmodFactor == nullptr) return -1;
+      const auto minor = static_cast<Eigen::Index>(m_cholmodFactor->minor);
+      if (minor < 0 || minor >= static_cast<Eigen::Index>(m_cholmodFactor->n)) return -1;
+      if (m_cholmodFactor->Perm == nullptr) return minor;
+      return static_cast<const int*>(m_cholmodFactor->Perm)[minor];
+    }
+  };
+
+  void factorize(double sigma) {
+    const SparseMatrix a = K_ - sigma * M_;
+    factor_.cholmod().print = 0;  // CHOLMOD's own "not positive definite" warning: we throw instead
+    factor_.compute(a);
+    if (factor_.info() != Eigen::Success) {
+      std::string where;
+      if (const Eigen::Index dof = factor_.failed_dof(); dof >= 0) {
+        where = ", pivot of DOF " + std::to_string(dof) + " of " + std::to_string(rows());
+      }
+      throw Error(
+          "the mass matrix is not positive definite or the stiffness matrix is not positive semi-definite "
+          "(factorization of K - sigma M failed at shift sigma = " +
+          str(sigma) + " rad^2/s^2" + where + ")");
+    }
+    sigma_ = sigma;
+  }
+
+  const SparseMatrix& K_;
+  const SparseMatrix& M_;
+  Factor factor_;
+  double sigma_ = std::numeric_limits<double>::quiet_NaN();
+  mutable int solves_ = 0;
+};
+
+/// Eigenpairs as a backend returns them (any order, vectors not yet checked).
+struct RawModes {
+  Eigen::VectorXd values;
+  Eigen::MatrixXd vectors;
+};
+
+/// Lanczos basis size: ncv = max(2 nev + 1, nev + 20), at most n.
+int lanczos_size(int nev, int n) {
+  return std::min(n, std::max(2 * nev + 1, nev + 20));
+}
+
+/// Spectra: shift-invert mode of SymGEigsShiftSolver, largest nu = 1 / (lambda - sigma) first.
+RawModes solve_spectra(ShiftInvertOperator& op, const SparseMatrix& M, int nev, double tolerance) {
+  using MassOperator = Spectra::SparseSymMatProd<double>;
+  using Solver =
+      Spectra::SymGEigsShiftSolver<ShiftInvertOperator, MassOperator, Spectra::GEigsMode::ShiftInvert>;
+  const int n = static_cast<int>(M.rows());
+  MassOperator mass(M);
+  // A non-converged run is retried once with a larger Lanczos basis.
+  for (int ncv = lanczos_size(nev, n);; ncv = std::min(n, 2 * ncv)) {
+    Solver solver(op, mass, nev, ncv, op.shift());
+    solver.init();
+    const Eigen::Index converged = solver.compute(Spectra::SortRule::LargestMagn, kMaxRestarts, tolerance,
+                                                  Spectra::SortRule::SmallestAlge);
+    if (solver.info() == Spectra::CompInfo::Successful) return {solver.eigenvalues(), solver.eigenvectors()};
+    if (ncv == n || solver.info() != Spectra::CompInfo::NotConverging) {
+      throw Error(
+          "the shift-invert Lanczos iteration (Spectra) did not converge: " + std::to_string(converged) +
+          " of " + std::to_string(nev) + " eigenvalues converged with " + std::to_string(ncv) +
+          " Lanczos vectors after " + std::to_string(solver.num_iterations()) + " restarts");
+    }
+  }
+}
+
+std::string arpack_message(const char* routine, int info) {
+  std::string what;
+  switch (info) {
+    case 1:
+      what = "maximum number of restarts reached";
+      break;
+    case 3:
+      what = "no shifts could be applied during a restart (the Lanczos basis NCV is too small)";
+      break;
+    case -1:
+      what = "N must be positive";
+      break;
+    case -2:
+      what = "NEV must be positive";
+      break;
+    case -3:
+      what = "NCV must be greater than NEV and at most N";
+      break;
+    case -4:
+      what = "the maximum number of iterations must be positive";
+      break;
+    case -5:
+      what = "WHICH must be one of LM, SM, LA, SA or BE";
+      break;
+    case -6:
+      what = "BMAT must be I or G";
+      break;
+    case -7:
+      what = "the length of the private work array WORKL is not sufficient";
+      break;
+    case -8:
+      what = "error return from the LAPACK tridiagonal eigenvalue calculation";
+      break;
+    case -9:
+      what = "the starting vector is zero";
+      break;
+    case -10:
+      what = "IPARAM(7) (mode) must be 1 to 5";
+      break;
+    case -11:
+      what = "mode 1 and BMAT = G are incompatible";
+      break;
+    case -12:
+      what = "IPARAM(1) (shift strategy) must be 0 or 1";
+      break;
+    case -13:
+      what = "NEV and WHICH = BE are incompatible";
+      break;
+    case -14:
+      what = "dsaupd did not find any eigenvalues to sufficient accuracy";
+      break;
+    case -15:
+      what = "HOWMNY must be A or S when eigenvectors are requested";
+      break;
+    case -16:
+      what = "HOWMNY = S is not implemented";
+      break;
+    case -17:
+      what = "dseupd found a different number of converged Ritz values than dsaupd";
+      break;
+    case -9999:
+      what = "could not build a Lanczos factorization";
+      break;
+    default:
+      what = "unknown error";
+      break;
+  }
+  return std::string("ARPACK ") + routine + " failed with info = " + std::to_string(info) + ": " + what;
+}
+
+/// ARPACK: dsaupd in generalized shift-invert mode 3 (BMAT = G, WHICH = LM, OP = (K - sigma M)^-1 M,
+/// B = M), then dseupd for the Ritz vectors and lambda = sigma + 1 / nu.
+RawModes solve_arpack(ShiftInvertOperator& op, const SparseMatrix& M, int nev, double tolerance) {
+  const a_int n = static_cast<a_int>(M.rows());
+  const auto mass = [&](const double* x, double* y) {
+    Eigen::Map<Eigen::VectorXd>(y, n).noalias() = M * Eigen::Map<const Eigen::VectorXd>(x, n);
+  };
+  for (a_int ncv = lanczos_size(nev, n);; ncv = std::min(n, 2 * ncv)) {
+    const a_int lworkl = ncv * (ncv + 8);
+    std::vector<double> resid(n), v(static_cast<std::size_t>(n) * ncv),
+        workd(3 * static_cast<std::size_t>(n)), workl(lworkl), mx(n);
+    // Deterministic starting vector (ARPACK's own random one depends on earlier calls in the process).
+    std::uint64_t state = 0x2545F4914F6CDD1DULL;
+    for (double& r : resid) {
+      state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+      r = static_cast<double>(state >> 11) / 9007199254740992.0 - 0.5;
+    }
+    a_int iparam[11] = {};
+    a_int ipntr[11] = {};
+    iparam[0] = 1;             // exact shifts
+    iparam[2] = kMaxRestarts;  // maximum number of restarts
+    iparam[3] = 1;             // block size
+    iparam[6] = 3;             // mode 3: shift-invert for K x = lambda M x
+    a_int ido = 0;
+    a_int info = 1;  // resid holds the starting vector
+    for (;;) {
+      arpack::saupd(ido, arpack::bmat::generalized, n, arpack::which::largest_magnitude, nev, tolerance,
+                    resid.data(), ncv, v.data(), n, iparam, ipntr, workd.data(), workl.data(), lworkl, info);
+      double* x = workd.data() + ipntr[0] - 1;
+      double* y = workd.data() + ipntr[1] - 1;
+      if (ido == -1) {  // y = OP x = (K - sigma M)^-1 M x (initialization: no B x available)
+        mass(x, mx.data());
+        op.perform_op(mx.data(), y);
+      } else if (ido == 1) {  // y = (K - sigma M)^-1 z with z = M x already in workd(ipntr(3))
+        op.perform_op(workd.data() + ipntr[2] - 1, y);
+      } else if (ido == 2) {  // y = M x
+        mass(x, y);
+      } else {
+        break;  // ido == 99: done (or an error in info)
+      }
+    }
+    if ((info == 1 || info == 3) && ncv < n) continue;  // retry with a larger basis
+    if (info != 0) {
+      throw Error(arpack_message("dsaupd", info) + " (" + std::to_string(iparam[4]) + " of " +
+                  std::to_string(nev) + " eigenvalues converged, NCV = " + std::to_string(ncv) + ")");
+    }
+    std::vector<a_int> select(ncv);
+    RawModes modes{Eigen::VectorXd(nev), Eigen::MatrixXd(n, nev)};
+    arpack::seupd(1, arpack::howmny::ritz_vectors, select.data(), modes.values.data(), modes.vectors.data(),
+                  n, op.shift(), arpack::bmat::generalized, n, arpack::which::largest_magnitude, nev,
+                  tolerance, resid.data(), ncv, v.data(), n, iparam, ipntr, workd.data(), workl.data(),
+                  lworkl, info);
+    if (info != 0) throw Error(arpack_message("dseupd", info));
+    const a_int converged = iparam[4];
+    if (converged < nev) {
+      throw Error("ARPACK converged only " + std::to_string(converged) + " of " + std::to_string(nev) +
+                  " eigenvalues");
+    }
+    return modes;
+  }
+}
+
+/// All eigenpairs on dense copies (Cholesky of M, then a standard symmetric eigenproblem).
+RawModes solve_dense(const SparseMatrix& K, const SparseMatrix& M) {
+  const Eigen::MatrixXd k = K.toDense();
+  const Eigen::MatrixXd m = M.toDense();
+  if (Eigen::LLT<Eigen::MatrixXd>(m).info() != Eigen::Success) {
+    throw Error("the mass matrix is not positive definite (its dense Cholesky factorization failed)");
+  }
+  const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> solver(
+      k, m, Eigen::ComputeEigenvectors | Eigen::Ax_lBx);
+  if (solver.info() != Eigen::Success) throw Error("the dense generalized eigensolver did not converge");
+  return {solver.eigenvalues(), solver.eigenvectors()};
+}
+
+/// Automatic shift (see EigenRequest::shift). With fmax: -(2 pi f_s)^2, f_s = max(1 Hz, fmax / 100).
+/// With a mode count only: each diagonal ratio K_ii / M_ii is a Rayleigh quotient, so the smallest one
+/// bounds lambda_1 from above; sigma = -1e-3 min K_ii / M_ii keeps the shift below the lowest modes, and
+/// at least 1e-10 max K_ii / M_ii (<= lambda_max) away from zero for a well-conditioned factorization.
+double automatic_shift(const SparseMatrix& K, const SparseMatrix& M, const EigenRequest& request) {
+  if (request.modes <= 0) return -eigenvalue_of_hz(std::max(1.0, request.fmax_hz / 100.0));
+  double lowest = std::numeric_limits<double>::infinity();
+  double highest = 0.0;
+  for (Eigen::Index i = 0; i < K.rows(); ++i) {
+    const double ratio = K.coeff(i, i) / M.coeff(i, i);
+    if (ratio > 0.0) {
+      lowest = std::min(lowest, ratio);
+      highest = std::max(highest, ratio);
+    }
+  }
+  if (highest == 0.0) return -1.0;  // K has no stiffness on its diagonal (K = 0): every lambda is 0
+  return -std::max(1e-3 * lowest, 1e-10 * highest);
+}
+
+void check_input(const SparseMatrix& K, const SparseMatrix& M, const EigenRequest& request) {
+  if (K.rows() != K.cols() || M.rows() != M.cols() || K.rows() != M.rows()) {
+    throw Error("the stiffness and mass matrices must be square and of equal size (K is " +
+                std::to_string(K.rows()) + " x " + std::to_string(K.cols()) + ", M is " +
+                std::to_string(M.rows()) + " x " + std::to_string(M.cols()) + ")");
+  }
+  const Eigen::Index n = K.rows();
+  if (n == 0) throw Error("the eigenproblem is empty (the model has no degrees of freedom)");
+  if (request.modes < 0)
+    throw Error("the number of modes must not be negative (got " + std::to_string(request.modes) + ")");
+  if (request.modes == 0 && !(request.fmax_hz > 0.0)) {
+    throw Error("the eigenvalue request needs a number of modes or a positive fmax (got modes = 0, fmax = " +
+                str(request.fmax_hz) + " Hz)");
+  }
+  if (request.modes > n) {
+    throw Error(std::to_string(request.modes) + " modes requested but the model has only " +
+                std::to_string(n) + " degrees of freedom");
+  }
+  if (!(request.shift <= 0.0)) {
+    throw Error("the eigenvalue shift must be negative (or 0 for automatic), got " + str(request.shift));
+  }
+  if (!(request.tolerance > 0.0))
+    throw Error("the eigenvalue tolerance must be positive, got " + str(request.tolerance));
+  if (!(request.residual_limit > 0.0)) {
+    throw Error("the eigenvalue residual limit must be positive, got " + str(request.residual_limit));
+  }
+  if (!all_finite(K)) throw Error("the stiffness matrix contains non-finite entries");
+  if (!all_finite(M)) throw Error("the mass matrix contains non-finite entries");
+  for (Eigen::Index i = 0; i < n; ++i) {
+    if (const double m = M.coeff(i, i); !(m > 0.0)) {
+      throw Error("the mass matrix is not positive definite (diagonal entry of DOF " + std::to_string(i) +
+                  " is " + str(m) + ")");
+    }
+    if (const double k = K.coeff(i, i); k < 0.0) {
+      throw Error("the stiffness matrix is not positive semi-definite (diagonal entry of DOF " +
+                  std::to_string(i) + " is " + str(k) + ")");
+    }
+  }
+}
+
+/// Sorts the eigenpairs ascending and keeps the first `count`.
+RawModes sorted(const RawModes& modes, Eigen::Index count) {
+  std::vector<Eigen::Index> order(static_cast<std::size_t>(modes.values.size()));
+  std::iota(order.begin(), order.end(), Eigen::Index{0});
+  std::stable_sort(order.begin(), order.end(),
+                   [&](Eigen::Index a, Eigen::Index b) { return modes.values[a] < modes.values[b]; });
+  count = std::min<Eigen::Index>(count, modes.values.size());
+  RawModes result{Eigen::VectorXd(count), Eigen::MatrixXd(modes.vectors.rows(), count)};
+  for (Eigen::Index j = 0; j < count; ++j) {
+    result.values[j] = modes.values[order[static_cast<std::size_t>(j)]];
+    result.vectors.col(j) = modes.vectors.col(order[static_cast<std::size_t>(j)]);
+  }
+  return result;
+}
+
+/// X^T M X = I: each vector normalized in the M norm; within a cluster of equal eigenvalues (relative
+/// gap <= 1e-8, or absolute gap <= `absolute_gap` for the rigid modes near zero) modified Gram-Schmidt
+/// in the M inner product, applied twice.
+void m_orthonormalize(const Eigen::VectorXd& values, Eigen::MatrixXd& vectors, const SparseMatrix& M,
+                      double absolute_gap) {
+  const Eigen::Index count = values.size();
+  Eigen::MatrixXd mx(vectors.rows(), count);  // M x of the finished vectors of the current cluster
+  const auto normalize = [&](Eigen::Index j, double reference) {
+    mx.col(j).noalias() = M * vectors.col(j);
+    const double q = vectors.col(j).dot(mx.col(j));
+    if (!(q > 0.0) || !std::isfinite(q)) {
+      throw Error("the mass matrix is not positive definite (x^T M x = " + str(q) +
+                  " for the eigenvector of mode " + std::to_string(j + 1) + ")");
+    }
+    if (std::sqrt(q) < 1e-6 * reference) {
+      throw Error("the eigensolver returned mode " + std::to_string(j + 1) +
+                  " twice (its vector is linearly dependent on the other vectors of its cluster)");
+    }
+    vectors.col(j) /= std::sqrt(q);
+    mx.col(j) /= std::sqrt(q);
+  };
+  for (Eigen::Index first = 0; first < count;) {
+    Eigen::Index end = first + 1;
+    while (end < count &&
+           values[end] - values[end - 1] <=
+               1e-8 * std::max(std::abs(values[end]), std::abs(values[end - 1])) + absolute_gap) {
+      ++end;
+    }
+    for (Eigen::Index j = first; j < end; ++j) {
+      normalize(j, 0.0);
+      for (int pass = 0; pass < 2 && end - first > 1; ++pass) {
+        for (Eigen::Index i = first; i < j; ++i)
+          vectors.col(j) -= mx.col(i).dot(vectors.col(j)) * vectors.col(i);
+        normalize(j, 1.0);
+      }
+    }
+    first = end;
+  }
+}
+
+}  // namespace
+
+EigenBackend parse_eigen_backend(const std::string& name) {
+  if (name == "spectra") return EigenBackend::kSpectra;
+  if (name == "arpack") return EigenBackend::kArpack;
+  if (name == "dense") return EigenBackend::kDense;
+  throw Error("unknown eigensolver backend '" + name + "' (expected one of: spectra, arpack, dense)");
+}
+
+std::string to_string(EigenBackend backend) {
+  switch (backend) {
+    case EigenBackend::kSpectra:
+      return "spectra";
+    case EigenBackend::kArpack:
+      return "arpack";
+    case EigenBackend::kDense:
+      return "dense";
+  }
+  return "unknown";
+}
+
+double frequency_hz(double eigenvalue) {
+  return eigenvalue > 0.0 ? std::sqrt(eigenvalue) / kTwoPi : 0.0;
+}
+
+double eigenvalue_of_hz(double hz) {
+  return (kTwoPi * hz) * (kTwoPi * hz);
+}
+
+EigenResult solve_eigenproblem(const SparseMatrix& K_in, const SparseMatrix& M_in,
+                               const EigenRequest& request) {
+  check_input(K_in, M_in, request);
+  const std::optional<SparseMatrix> K_sym = symmetric_part(K_in, "stiffness");
+  const std::optional<SparseMatrix> M_sym = symmetric_part(M_in, "mass");
+  const SparseMatrix& K = K_sym ? *K_sym : K_in;
+  const SparseMatrix& M = M_sym ? *M_sym : M_in;
+  const int n = static_cast<int>(K.rows());
+
+  const bool by_count = request.modes > 0;
+  const double lambda_max =
+      by_count ? std::numeric_limits<double>::infinity() : eigenvalue_of_hz(request.fmax_hz);
+  // The iterative solvers need nev < n - 1; small models are cheaper dense anyway.
+  bool dense =
+      request.backend == EigenBackend::kDense || n <= kDenseSize || (by_count && request.modes >= n - 1);
+
+  EigenResult result;
+  RawModes raw;
+  double absolute_gap = 0.0;  // eigenvalues closer than this count as equal (rigid modes near 0)
+  if (!dense) {
+    const double sigma = request.shift < 0.0 ? request.shift : automatic_shift(K, M, request);
+    ShiftInvertOperator op(K, M, sigma);
+    const auto solve = [&](int nev) {
+      return request.backend == EigenBackend::kArpack ? solve_arpack(op, M, nev, request.tolerance)
+                                                      : solve_spectra(op, M, nev, request.tolerance);
+    };
+    if (by_count) {
+      raw = solve(request.modes);
+    } else {
+      // Grow the number of modes until the highest one found lies above fmax (same factorization).
+      for (int nev = std::min(kInitialModes, n - 2);; nev = std::min(2 * nev, n - 2)) {
+        raw = solve(nev);
+        if (raw.values.maxCoeff() > lambda_max) break;
+        if (nev == n - 2) {
+          dense = true;  // fmax lies above (nearly) all modes of the model
+          break;
+        }
+      }
+    }
+    result.shift = sigma;
+    result.matrix_operations = op.solves();
+    absolute_gap = 1e-8 * std::abs(sigma);
+  }
+  if (dense) {
+    if (request.backend != EigenBackend::kDense && n > kDenseFallbackLimit) {
+      throw Error("fmax = " + str(request.fmax_hz) + " Hz lies above nearly all modes of the model (" +
+                  std::to_string(n) + " degrees of freedom), too many for the dense eigensolver; lower fmax");
+    }
+    raw = solve_dense(K, M);
+    result.shift = 0.0;
+    absolute_gap = 1e-10 * raw.values.cwiseAbs().maxCoeff();
+  }
+
+  // The lowest `modes`, or all with lambda <= (2 pi fmax)^2.
+  Eigen::Index count = raw.values.size();
+  if (by_count) {
+    count = request.modes;
+  } else {
+    count = (raw.values.array() <= lambda_max).count();
+  }
+  RawModes modes = sorted(raw, count);
+  if (by_count && modes.values.size() < request.modes) {
+    throw Error("the eigensolver returned " + std::to_string(modes.values.size()) + " of " +
+                std::to_string(request.modes) + " requested modes");
+  }
+  if (!modes.values.allFinite()) throw Error("the eigensolver returned non-finite eigenvalues");
+  m_orthonormalize(modes.values, modes.vectors, M, absolute_gap);
+
+  // Relative residual ||K x - lambda M x|| / (||K x|| + |lambda| ||M x|| + sqrt(eps) ||K||_1 ||x||). The
+  // last term is the round-off floor of K x: for rigid modes K x and lambda are both round-off.
+  const double floor = std::sqrt(kEpsilon) * norm1(K);
+  result.residuals.resize(modes.values.size());
+  for (Eigen::Index j = 0; j < modes.values.size(); ++j) {
+    const auto x = modes.vectors.col(j);
+    const Eigen::VectorXd kx = K * x;
+    const Eigen::VectorXd mx = M * x;
+    const double lambda = modes.values[j];
+    const double residual =
+        (kx - lambda * mx).norm() / (kx.norm() + std::abs(lambda) * mx.norm() + floor * x.norm());
+    result.residuals[j] = residual;
+    if (!(residual <= request.residual_limit)) {
+      throw Error("mode " + std::to_string(j + 1) + " (" + str(frequency_hz(lambda)) + " Hz, lambda = " +
+                  str(lambda) + " rad^2/s^2) has the relative residual " + str(residual) + " > limit " +
+                  str(request.residual_limit) + " (" + to_string(request.backend) + " eigensolver)");
+    }
+  }
+  result.eigenvalues = std::move(modes.values);
+  result.vectors = std::move(modes.vectors);
+  return result;
+}
+
+}  // namespace nvh::condense

@@ -1,1 +1,215 @@
-// placeholder
+#include "condense/reduction.hpp"
+
+#include <Eigen/CholmodSupport>
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "common/error.hpp"
+
+namespace nvh::condense {
+namespace {
+
+constexpr double kTwoPi = 6.283185307179586;
+
+std::string hz(double f) {
+  std::ostringstream s;
+  s.precision(5);
+  s << f << " Hz";
+  return s.str();
+}
+
+/// Rows/columns `rows` x `cols` of a sparse matrix (index lists in ascending order).
+SparseMatrix submatrix(const SparseMatrix& a, const std::vector<int>& rows, const std::vector<int>& cols) {
+  std::vector<int> row_map(a.rows(), -1), col_map(a.cols(), -1);
+  for (std::size_t i = 0; i < rows.size(); ++i) row_map[rows[i]] = static_cast<int>(i);
+  for (std::size_t j = 0; j < cols.size(); ++j) col_map[cols[j]] = static_cast<int>(j);
+  std::vector<Eigen::Triplet<double>> t;
+  for (int k = 0; k < a.outerSize(); ++k) {
+    if (col_map[k] < 0) continue;
+    for (SparseMatrix::InnerIterator it(a, k); it; ++it)
+      if (row_map[it.row()] >= 0) t.emplace_back(row_map[it.row()], col_map[k], it.value());
+  }
+  SparseMatrix s(static_cast<Eigen::Index>(rows.size()), static_cast<Eigen::Index>(cols.size()));
+  s.setFromTriplets(t.begin(), t.end());
+  return s;
+}
+
+/// The request for the lowest modes: `modes` elastic ones (plus the rigid ones), or up to fmax.
+EigenRequest request_for(const ReductionSettings& s, int rigid, EigenBackend backend) {
+  EigenRequest r;
+  r.backend = backend;
+  if (s.modes > 0) {
+    r.modes = s.modes + rigid;
+  } else {
+    r.fmax_hz = s.fmax_hz;
+  }
+  return r;
+}
+
+/// Modal damping 2 zeta omega on the elastic modes X_e (M_r-orthonormal) of a reduced basis:
+/// D = M_r X_e diag(2 zeta omega) X_e^T M_r, so that X_e^T D X_e = diag(2 zeta omega).
+Eigen::MatrixXd modal_damping(const Eigen::MatrixXd& mass, const Eigen::MatrixXd& elastic_vectors,
+                              const Eigen::VectorXd& omega, double zeta) {
+  const Eigen::MatrixXd mx = mass * elastic_vectors;
+  return mx * (2.0 * zeta * omega).asDiagonal() * mx.transpose();
+}
+
+ReducedModel modal_reduction(const ReductionInput& in, const Logger& log) {
+  const ReductionSettings& s = in.settings;
+  const int rigid = in.rigid_body_modes;
+  EigenResult eig = solve_eigenproblem(*in.stiffness, *in.mass, request_for(s, rigid, in.backend));
+  const int found = static_cast<int>(eig.eigenvalues.size());
+  if (found <= rigid) {
+    // Nothing elastic below fmax: find the first elastic mode to say where it is.
+    EigenRequest first;
+    first.backend = in.backend;
+    first.modes = rigid + 1;
+    const EigenResult one = solve_eigenproblem(*in.stiffness, *in.mass, first);
+    throw Error("fmax = " + hz(s.fmax_hz) + " is below the first elastic mode (" +
+                    hz(frequency_hz(one.eigenvalues(rigid))) +
+                    "): no mode to keep; raise fmax or give modes = N",
+                s.where, "reduction.fmax");
+  }
+  const int m = found - rigid;
+  ReducedModel r;
+  r.rigid_body_modes_removed = rigid;
+  r.basis = eig.vectors.rightCols(m);
+  r.mass = Eigen::MatrixXd::Identity(m, m);
+  const Eigen::VectorXd lambda = eig.eigenvalues.tail(m).cwiseMax(0.0);
+  r.stiffness = lambda.asDiagonal();
+  const Eigen::VectorXd omega = lambda.cwiseSqrt();
+  r.damping = (2.0 * s.damping_ratio * omega).asDiagonal();
+  r.frequency_hz = omega / kTwoPi;
+  for (int i = 0; i < m; ++i) r.coordinates.push_back("mode " + std::to_string(i + 1));
+  r.max_residual = eig.residuals.size() ? eig.residuals.maxCoeff() : 0.0;
+  log.detail("modal: " + std::to_string(m) + " elastic modes, " + hz(r.frequency_hz(0)) + " .. " +
+             hz(r.frequency_hz(m - 1)));
+  return r;
+}
+
+ReducedModel craig_bampton(const ReductionInput& in, bool with_fixed_interface_modes, const Logger& log) {
+  const ReductionSettings& s = in.settings;
+  const SparseMatrix& K = *in.stiffness;
+  const SparseMatrix& M = *in.mass;
+  const int n = static_cast<int>(K.rows());
+  if (in.boundary_dofs.empty()) {
+    throw Error(to_string(s.method) + " reduction needs at least one [[interface]] point (its DOF are kept); "
+                "add one, or use method = \"modal\"",
+                s.where, "reduction.method");
+  }
+  std::vector<int> b = in.boundary_dofs;
+  std::vector<bool> is_boundary(n, false);
+  for (int d : b) is_boundary[d] = true;
+  std::vector<int> i_dofs;
+  for (int d = 0; d < n; ++d)
+    if (!is_boundary[d]) i_dofs.push_back(d);
+  const int nb = static_cast<int>(b.size()), ni = static_cast<int>(i_dofs.size());
+
+  // Constraint modes: K_ii Psi = -K_ib, one factorization, nb right-hand sides.
+  const SparseMatrix Kii = submatrix(K, i_dofs, i_dofs);
+  const SparseMatrix Kib = submatrix(K, i_dofs, b);
+  Eigen::MatrixXd psi(ni, nb);
+  if (ni > 0) {
+    Eigen::CholmodSupernodalLLT<SparseMatrix, Eigen::Lower> chol(Kii);
+    if (chol.info() != Eigen::Success) {
+      throw Error("the interior of the model is not restrained by the interface points and supports (the "
+                  "stiffness with the interface DOF held is singular): add an interface or a support, or "
+                  "check that the beam is connected");
+    }
+    psi = -chol.solve(Eigen::MatrixXd(Kib));
+  }
+
+  // Fixed-interface modes.
+  Eigen::MatrixXd phi(ni, 0);
+  Eigen::VectorXd fixed_hz;
+  if (with_fixed_interface_modes && ni > 0) {
+    const SparseMatrix Mii = submatrix(M, i_dofs, i_dofs);
+    const EigenResult eig = solve_eigenproblem(Kii, Mii, request_for(s, 0, in.backend));
+    if (eig.eigenvalues.size() == 0) {
+      EigenRequest first;
+      first.backend = in.backend;
+      first.modes = 1;
+      const EigenResult one = solve_eigenproblem(Kii, Mii, first);
+      throw Error("fmax = " + hz(s.fmax_hz) + " is below the first fixed-interface mode (" +
+                      hz(frequency_hz(one.eigenvalues(0))) +
+                      "): no mode to keep; raise fmax, give modes = N, or use method = \"guyan\"",
+                  s.where, "reduction.fmax");
+    }
+    phi = eig.vectors;
+    fixed_hz = eig.eigenvalues.unaryExpr([](double l) { return frequency_hz(l); });
+  }
+  const int nm = static_cast<int>(phi.cols());
+
+  ReducedModel r;
+  r.fixed_interface_hz = fixed_hz;
+  r.basis = Eigen::MatrixXd::Zero(n, nb + nm);
+  for (int j = 0; j < nb; ++j) r.basis(b[j], j) = 1.0;
+  for (int i = 0; i < ni; ++i) {
+    r.basis.row(i_dofs[i]).head(nb) = psi.row(i);
+    r.basis.row(i_dofs[i]).tail(nm) = phi.row(i);
+  }
+  r.coordinates = in.boundary_names;
+  for (int j = 0; j < nm; ++j) r.coordinates.push_back("fixed-interface mode " + std::to_string(j + 1));
+  r.stiffness = r.basis.transpose() * (K * r.basis);
+  r.mass = r.basis.transpose() * (M * r.basis);
+  r.stiffness = 0.5 * (r.stiffness + r.stiffness.transpose()).eval();
+  r.mass = 0.5 * (r.mass + r.mass.transpose()).eval();
+  log.detail(to_string(s.method) + ": " + std::to_string(nb) + " boundary DOF, " + std::to_string(nm) +
+             " fixed-interface modes");
+  return r;
+}
+
+/// Solve the reduced eigenproblem; either rotate the basis onto its elastic modes (orthonormalize) or
+/// keep the basis and only record the frequencies and the modal damping.
+void finish_reduced(ReducedModel& r, const ReductionInput& in) {
+  const int rigid = in.rigid_body_modes;
+  Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> eig(r.stiffness, r.mass);
+  if (eig.info() != Eigen::Success) throw Error("the reduced eigenproblem could not be solved");
+  const int m = static_cast<int>(r.mass.rows());
+  const int elastic = m - rigid;
+  if (elastic <= 0) {
+    throw Error("the reduced basis holds only rigid-body motion; add fixed-interface modes or interfaces",
+                in.settings.where, "reduction");
+  }
+  const Eigen::VectorXd lambda = eig.eigenvalues().tail(elastic).cwiseMax(0.0);
+  const Eigen::MatrixXd x = eig.eigenvectors().rightCols(elastic);  // M_r-orthonormal
+  const Eigen::VectorXd omega = lambda.cwiseSqrt();
+  r.frequency_hz = omega / kTwoPi;
+  const double zeta = in.settings.damping_ratio;
+  if (in.settings.orthonormalize) {
+    r.basis = r.basis * x;
+    r.mass = Eigen::MatrixXd::Identity(elastic, elastic);
+    r.stiffness = lambda.asDiagonal();
+    r.damping = (2.0 * zeta * omega).asDiagonal();
+    r.coordinates.clear();
+    for (int i = 0; i < elastic; ++i) r.coordinates.push_back("mode " + std::to_string(i + 1));
+    r.rigid_body_modes_removed = rigid;
+  } else {
+    r.damping = modal_damping(r.mass, x, omega, zeta);
+    r.rigid_body_modes_contained = rigid;
+  }
+}
+
+}  // namespace
+
+ReducedModel reduce(const ReductionInput& in, const Logger& log) {
+  switch (in.settings.method) {
+    case ReductionMethod::kModal:
+      return modal_reduction(in, log);
+    case ReductionMethod::kCraigBampton: {
+      ReducedModel r = craig_bampton(in, true, log);
+      finish_reduced(r, in);
+      return r;
+    }
+    case ReductionMethod::kGuyan: {
+      ReducedModel r = craig_bampton(in, false, log);
+      finish_reduced(r, in);
+      return r;
+    }
+  }
+  throw Error("unknown reduction method");
+}
+
+}  // namespace nvh::condense

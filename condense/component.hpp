@@ -1,0 +1,109 @@
+#pragma once
+// A component as the user describes it in COMPONENT.toml, after validation: plain data, SI units
+// (m, kg, s, N, Pa). The file format is documented in docs/component-format.md.
+#include <array>
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "common/error.hpp"
+
+namespace nvh::condense {
+
+using Vec3 = std::array<double, 3>;
+
+/// Isotropic linear-elastic material.
+struct Material {
+  std::string name;
+  double E = 0.0;    ///< Young's modulus, Pa
+  double nu = 0.0;   ///< Poisson's ratio, -1 < nu < 0.5
+  double rho = 0.0;  ///< density, kg/m^3
+  double shear_modulus() const { return E / (2.0 * (1.0 + nu)); }
+};
+
+/// Cross-section properties of a beam segment, about its centroid and principal axes.
+struct BeamSection {
+  double A = 0.0;   ///< area, m^2
+  double Iy = 0.0;  ///< second moment about the local y axis, m^4 (bending in the x-z plane)
+  double Iz = 0.0;  ///< second moment about the local z axis, m^4 (bending in the x-y plane)
+  double J = 0.0;   ///< torsion constant (St. Venant), m^4
+  /// Timoshenko shear factor kappa (same for both directions); empty: Euler-Bernoulli (no shear
+  /// deformation, no rotary inertia of bending).
+  std::optional<double> shear_factor;
+  /// Rotary inertia of bending (default true: the Rayleigh/Timoshenko mass). false gives the classical
+  /// Euler-Bernoulli mass, for comparison with its textbook frequencies.
+  bool rotary_inertia = true;
+  /// Direction that fixes the local y axis (projected normal to the segment); empty: automatic.
+  std::optional<Vec3> y_axis;
+  std::string material;  ///< material name; empty: the beam's material
+  SourceLocation where;  ///< for messages
+};
+
+struct PointMass {
+  Vec3 at{};
+  double m = 0.0;     ///< kg
+  Vec3 J{};           ///< principal moments of inertia about the point, in component axes, kg m^2
+  SourceLocation where;
+};
+
+/// A rigid offset from a station of the beam (master) to a point (slave node with its own 6 DOF tied).
+struct RigidLink {
+  Vec3 from{};
+  Vec3 to{};
+  SourceLocation where;
+};
+
+/// Supported degrees of freedom at a point: mask over x y z rx ry rz.
+struct Support {
+  Vec3 at{};
+  std::array<bool, 6> dofs{};
+  SourceLocation where;
+};
+
+/// A named point of the model: interface (kept as physical 6-DOF node) or observation point.
+struct NamedPoint {
+  std::string name;
+  Vec3 at{};
+  SourceLocation where;
+};
+
+enum class ReductionMethod { kModal, kCraigBampton, kGuyan };
+
+struct ReductionSettings {
+  ReductionMethod method = ReductionMethod::kCraigBampton;
+  double fmax_hz = 0.0;  ///< keep modes up to fmax (> 0) ...
+  int modes = 0;         ///< ... or this many modes (> 0); exactly one of the two is set
+  bool orthonormalize = true;
+  double damping_ratio = 0.0;  ///< modal damping ratio zeta of the retained modes
+  SourceLocation where;
+};
+
+struct BeamGeometry {
+  std::vector<Vec3> points;  ///< stations along the beam's axis (a polyline), m
+  int elements_per_segment = 8;
+  std::string material;
+  /// Section of each segment (segment s joins points[s] and points[s+1]; 0-based here).
+  std::vector<BeamSection> segment_sections;
+  std::vector<PointMass> masses;
+  std::vector<RigidLink> rigid_links;
+  SourceLocation where;
+};
+
+struct Component {
+  std::string name;
+  std::string kind;  ///< "beam" (volume models: a later issue)
+  std::filesystem::path file;
+  std::map<std::string, Material> materials;
+  BeamGeometry beam;
+  std::vector<Support> supports;
+  std::vector<NamedPoint> interfaces;
+  std::vector<NamedPoint> observers;
+  ReductionSettings reduction;
+  double point_tolerance = 1e-6;  ///< m: how far a named point may lie from a node of the model
+};
+
+std::string to_string(ReductionMethod method);
+
+}  // namespace nvh::condense

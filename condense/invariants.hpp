@@ -1,0 +1,50 @@
+#pragma once
+// Inertia invariants of a flexible body in a floating frame of reference, in Shabana's formulation
+// (A. A. Shabana, Dynamics of Multibody Systems, 3rd ed., Cambridge 2005, sec. 5.5, eq. 5.99-5.110),
+// computed from the consistent mass matrix and its section-resolved parts, never from lumped masses.
+//
+// A material point at x (undeformed, component axes, m) moves by u = S(x) q, with S = N B the shape
+// field of the reduced basis B. The invariants are:
+//   m                     = int rho dV                                      (kg)
+//   m c                   = int rho x dV                                    (kg m)
+//   J_c                   inertia tensor about the centre of mass          (kg m^2)
+//   I_kl  (3x3)           = int rho x_k x_l dV                              (kg m^2)
+//   S_bar (3 x n)         = int rho S dV                  translational coupling
+//   S_rot (3 x n)         = int rho x~ S dV               rotational coupling (about the origin)
+//   I_tilde_kl (3x3 x n)  = int rho x_k S_l dV            position coupling
+//   S_kl  (3x3 x n x n)   = int rho S_k^T S_l dV          quadratic (second-order) terms
+// With them the mass matrix of the body in its frame is exact for any q (Shabana eq. 5.115).
+#include <Eigen/Core>
+#include <vector>
+
+#include "condense/beam_model.hpp"
+
+namespace nvh::condense {
+
+struct RigidBodyInertia {
+  double mass = 0.0;                ///< kg
+  Eigen::Vector3d center_of_mass;   ///< m, component axes
+  Eigen::Matrix3d inertia;          ///< about the centre of mass, component axes, kg m^2
+  Eigen::Matrix3d inertia_origin;   ///< about the component origin, kg m^2
+  Eigen::Matrix3d second_moment;    ///< I_kl = int rho x_k x_l dV about the origin, kg m^2
+};
+
+struct ModalInvariants {
+  Eigen::MatrixXd translational;  ///< 3 x n
+  Eigen::MatrixXd rotational;     ///< 3 x n
+  /// position[k * 3 + l] = I_tilde_kl (length n)
+  std::vector<Eigen::VectorXd> position;
+  /// quadratic[k * 3 + l] = S_kl (n x n)
+  std::vector<Eigen::MatrixXd> quadratic;
+};
+
+/// Mass, centre of mass and inertia from the 6x6 rigid-body mass R^T M R (R about the origin).
+RigidBodyInertia rigid_body_inertia(const Eigen::Matrix<double, 6, 6>& rigid_mass);
+
+/// The rigid-body inertia of a beam model, from its consistent mass matrix (supports ignored).
+RigidBodyInertia rigid_body_inertia(const BeamModel& model);
+
+/// Modal invariants for nodal shapes `shapes` (6N x n, i.e. T * basis).
+ModalInvariants modal_invariants(const BeamModel& model, const Eigen::MatrixXd& shapes);
+
+}  // namespace nvh::condense

@@ -1,0 +1,61 @@
+#pragma once
+// Reduction of a structural model (K, M on its free DOF) to a small basis u = B q:
+//
+// - free-free (or supported) modal: B = the elastic normal modes up to fmax (or N of them); the
+//   rigid-body modes are separated and left to the floating frame of reference.
+// - Craig-Bampton (Craig and Bampton, AIAA J. 6(7), 1968): boundary (interface) DOF kept physical,
+//   constraint modes Psi = -K_ii^-1 K_ib from one sparse Cholesky factorization with many right-hand sides,
+//   plus the fixed-interface normal modes of (K_ii, M_ii) up to fmax:
+//       B = [ I    0     ]   (rows: boundary DOF)
+//           [ Psi  Phi_i ]   (rows: interior DOF)
+// - Guyan (Guyan, AIAA J. 3(2), 1965): the constraint modes only.
+//
+// With `orthonormalize` the reduced eigenproblem K_r x = lambda M_r x is solved and the basis rotated
+// onto its eigenvectors (B <- B X, rigid-body ones dropped), so every coordinate is a mode of the
+// reduced, unconstrained system with M_r = I and K_r = diag(omega^2), as Adams and RecurDyn do.
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+#include <string>
+#include <vector>
+
+#include "common/log.hpp"
+#include "condense/component.hpp"
+#include "condense/eigensolver.hpp"
+
+namespace nvh::condense {
+
+struct ReductionInput {
+  const SparseMatrix* stiffness = nullptr;  ///< K on the free DOF
+  const SparseMatrix* mass = nullptr;       ///< M on the free DOF
+  std::vector<int> boundary_dofs;           ///< free-DOF indices kept physical (Craig-Bampton, Guyan)
+  std::vector<std::string> boundary_names;  ///< one per boundary DOF, e.g. "main1.rx"
+  int rigid_body_modes = 0;                 ///< how many zero-frequency modes the unsupported model has
+  ReductionSettings settings;
+  EigenBackend backend = EigenBackend::kSpectra;
+};
+
+struct ReducedModel {
+  Eigen::MatrixXd basis;      ///< n_free x m: u = basis * q
+  Eigen::MatrixXd mass;       ///< m x m: basis^T M basis
+  Eigen::MatrixXd stiffness;  ///< m x m: basis^T K basis
+  Eigen::MatrixXd damping;    ///< m x m: modal damping, 2 zeta omega on each elastic mode
+  /// Elastic eigenfrequencies of the reduced system (K_r, M_r), ascending, Hz. For orthonormalized and
+  /// modal bases these are the frequencies of the coordinates themselves.
+  Eigen::VectorXd frequency_hz;
+  /// What each coordinate is: "mode 3", "main1.x", "fixed-interface mode 2".
+  std::vector<std::string> coordinates;
+  /// Rigid-body modes removed from the basis (modal, orthonormalized) or still contained in it (raw
+  /// Craig-Bampton and Guyan of an unsupported component).
+  int rigid_body_modes_removed = 0;
+  int rigid_body_modes_contained = 0;
+  /// Fixed-interface frequencies (Craig-Bampton), Hz, for information.
+  Eigen::VectorXd fixed_interface_hz;
+  /// Largest relative residual of the full-model eigen-solve.
+  double max_residual = 0.0;
+};
+
+/// nvh::Error when fmax lies below the first (elastic or fixed-interface) mode, the interior is not
+/// restrained by the boundary DOF (a mechanism), or a method needs interfaces that the model lacks.
+ReducedModel reduce(const ReductionInput& input, const Logger& log);
+
+}  // namespace nvh::condense

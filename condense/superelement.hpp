@@ -1,0 +1,62 @@
+#pragma once
+// The superelement: what `condense` hands to `solve` and to the user, and its HDF5 file.
+// The layout (every dataset's shape, unit and meaning) is documented in docs/hdf5-format.md; the
+// paths below are fixed by that contract.
+#include <Eigen/Core>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "common/provenance.hpp"
+#include "condense/invariants.hpp"
+
+namespace nvh::condense {
+
+inline constexpr const char* kSuperelementFormat = "superelement";
+inline constexpr const char* kSuperelementFormatVersion = "1.0";
+
+/// Points of the component (interfaces or observation points) and their motion per coordinate.
+struct PointSet {
+  std::vector<std::string> names;
+  Eigen::MatrixXd position;  ///< count x 3, m
+  /// shapes[p] is 6 x n: (ux uy uz rx ry rz) of point p per unit of each coordinate.
+  std::vector<Eigen::MatrixXd> shapes;
+};
+
+struct Superelement {
+  std::string name;
+  std::string kind;    ///< "beam"
+  std::string method;  ///< "modal" | "craig-bampton" | "guyan"
+  bool orthonormalized = false;
+  double damping_ratio = 0.0;
+  int rigid_body_modes_removed = 0;
+  int rigid_body_modes_contained = 0;
+
+  Eigen::VectorXd frequency_hz;  ///< /modes/frequency_hz
+  Eigen::VectorXd fixed_interface_hz;
+  std::vector<std::string> coordinates;
+  Eigen::MatrixXd mass, stiffness, damping;  ///< /reduced/*
+
+  PointSet interfaces;  ///< /interface/*
+  PointSet observers;   ///< /observe/*
+
+  RigidBodyInertia inertia;    ///< /invariants/mass, center_of_mass, inertia, ...
+  ModalInvariants invariants;  ///< /invariants/translational_coupling, ...
+
+  // Model size and cost, for the user's information (/model).
+  int node_count = 0;
+  int element_count = 0;
+  int dof_count = 0;
+  int free_dof_count = 0;
+  double max_residual = 0.0;
+
+  int size() const { return static_cast<int>(mass.rows()); }
+};
+
+/// Write to `path` through a temporary file renamed when complete.
+void write_superelement(const std::filesystem::path& path, const Superelement& se, const Provenance& provenance);
+
+/// Read a superelement file, checking format, version and every shape.
+Superelement read_superelement(const std::filesystem::path& path);
+
+}  // namespace nvh::condense
