@@ -1,1 +1,982 @@
-// placeholder
+#include "common/hdf5.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstring>
+#include <functional>
+#include <numeric>
+#include <system_error>
+#include <utility>
+
+#include "common/error.hpp"
+
+namespace nvh::h5 {
+namespace {
+
+// Arrays larger than this many values are stored chunked and compressed even when not asked for.
+constexpr hsize_t kAutoChunkThreshold = 4096;
+// Target number of values in one automatic chunk (128 KiB of doubles, well inside HDF5's 1 MiB
+// default chunk cache, so appending row by row does not re-read and re-compress chunks).
+constexpr hsize_t kChunkTargetValues = 16384;
+constexpr int kDefaultDeflateLevel = 4;
+
+// ---------------------------------------------------------------------------------------------
+// Errors
+
+// The innermost description on HDF5's error stack (the stack of the last failed call), or "".
+// Printing is silenced (silence_hdf5_errors), but the stack is still recorded and can be walked.
+std::string hdf5_detail() {
+  std::string detail;
+  auto take_first = [](unsigned n, const H5E_error2_t* error, void* out) -> herr_t {
+    if (n == 0 && error->desc != nullptr) *static_cast<std::string*>(out) = error->desc;
+    return 0;
+  };
+  H5Ewalk2(H5E_DEFAULT, H5E_WALK_UPWARD, take_first, &detail);
+  H5Eclear2(H5E_DEFAULT);
+  return detail.empty() ? std::string() : " (HDF5: " + detail + ")";
+}
+
+[[noreturn]] void fail(const std::string& where, const std::string& what) {
+  throw Error(where + ": " + what);
+}
+
+hid_t check_id(hid_t id, const std::string& where, const std::string& what) {
+  if (id < 0) fail(where, what + hdf5_detail());
+  return id;
+}
+
+void check_status(herr_t status, const std::string& where, const std::string& what) {
+  if (status < 0) fail(where, what + hdf5_detail());
+}
+
+// ---------------------------------------------------------------------------------------------
+// Paths and descriptions for messages
+
+// Path of `name` (relative to the group at `group_path`, or absolute) inside the file.
+std::string join_path(const std::string& group_path, std::string_view name) {
+  if (name.empty() || name == ".") return group_path;
+  if (name.front() == '/') return std::string(name);
+  if (group_path.empty() || group_path == "/") return "/" + std::string(name);
+  return group_path + "/" + std::string(name);
+}
+
+std::string attribute_where(const std::string& object_where, std::string_view attr) {
+  return object_where + ", attribute '" + std::string(attr) + "'";
+}
+
+hsize_t element_count(const std::vector<hsize_t>& dims) {
+  return std::accumulate(dims.begin(), dims.end(), hsize_t{1}, std::multiplies<>());
+}
+
+// "(3, 4)", "(3,)" like numpy; "()" for a scalar.
+std::string format_dims(const std::vector<hsize_t>& dims) {
+  std::string text = "(";
+  for (size_t i = 0; i < dims.size(); ++i) {
+    if (i > 0) text += ", ";
+    text += std::to_string(dims[i]);
+  }
+  return text + (dims.size() == 1 ? ",)" : ")");
+}
+
+// What a datatype holds, as said after "found": "float64 data", "a string", ...
+std::string describe_type(hid_t type) {
+  const std::string bits = std::to_string(8 * H5Tget_size(type));
+  switch (H5Tget_class(type)) {
+    case H5T_FLOAT:
+      return "float" + bits + " data";
+    case H5T_INTEGER:
+      return (H5Tget_sign(type) == H5T_SGN_NONE ? "uint" : "int") + bits + " data";
+    case H5T_STRING:
+      return "a string";
+    case H5T_COMPOUND:
+      return "a compound type";
+    case H5T_ENUM:
+      return "an enum (e.g. booleans)";
+    case H5T_ARRAY:
+      return "an array type";
+    case H5T_VLEN:
+      return "a variable-length sequence";
+    case H5T_REFERENCE:
+      return "a reference";
+    default:
+      return "an unsupported type";
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Structure
+
+// The successive prefixes of a path: "a/b/c" -> "a", "a/b", "a/b/c" ("/a/b" -> "/a", "/a/b").
+std::vector<std::string> path_prefixes(std::string_view path) {
+  std::vector<std::string> prefixes;
+  std::string prefix = !path.empty() && path.front() == '/' ? "/" : "";
+  for (size_t begin = path.find_first_not_of('/'); begin != std::string_view::npos;
+       begin = path.find_first_not_of('/', begin)) {
+    const size_t end = std::min(path.find('/', begin), path.size());
+    const std::string_view component = path.substr(begin, end - begin);
+    begin = end;
+    if (component == ".") continue;  // "./a" is "a"
+    if (!prefix.empty() && prefix.back() != '/') prefix += '/';
+    prefix += component;
+    prefixes.push_back(prefix);
+  }
+  return prefixes;
+}
+
+bool is_group(hid_t loc, const std::string& path) {
+  const Handle object(H5Oopen(loc, path.c_str(), H5P_DEFAULT));
+  return object.valid() && H5Iget_type(object.get()) == H5I_GROUP;
+}
+
+// True if every component of `path` exists and all but the last are groups. H5Lexists itself fails
+// (rather than returning false) when an intermediate component is missing, hence the walk.
+bool link_exists(hid_t loc, std::string_view path) {
+  const std::vector<std::string> prefixes = path_prefixes(path);
+  for (size_t i = 0; i < prefixes.size(); ++i) {
+    if (H5Lexists(loc, prefixes[i].c_str(), H5P_DEFAULT) <= 0) return false;
+    if (i + 1 < prefixes.size() && !is_group(loc, prefixes[i])) return false;
+  }
+  return true;  // also for "", "." and "/": the group itself
+}
+
+// Before creating `path`: each existing parent component must be a group (missing ones get created).
+void require_parent_groups(hid_t loc, std::string_view path, const std::string& where) {
+  const std::vector<std::string> prefixes = path_prefixes(path);
+  for (size_t i = 0; i + 1 < prefixes.size(); ++i) {
+    if (H5Lexists(loc, prefixes[i].c_str(), H5P_DEFAULT) <= 0) return;
+    if (!is_group(loc, prefixes[i])) fail(where, "cannot create: '" + prefixes[i] + "' is not a group");
+  }
+}
+
+// Link creation properties that create missing intermediate groups ("a/b/c" with no "a").
+Handle intermediate_groups_lcpl() {
+  Handle lcpl(H5Pcreate(H5P_LINK_CREATE));
+  H5Pset_create_intermediate_group(lcpl.get(), 1);
+  return lcpl;
+}
+
+// Group creation properties that remember the creation order of members, so members() lists them
+// in the order they were written. Intermediate groups inherit this from their parent.
+Handle creation_order_gcpl() {
+  Handle gcpl(H5Pcreate(H5P_GROUP_CREATE));
+  H5Pset_link_creation_order(gcpl.get(), H5P_CRT_ORDER_TRACKED | H5P_CRT_ORDER_INDEXED);
+  return gcpl;
+}
+
+Handle make_dataspace(const std::vector<hsize_t>& dims, const std::string& where) {
+  if (dims.empty()) return Handle(check_id(H5Screate(H5S_SCALAR), where, "cannot create a dataspace"));
+  return Handle(check_id(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr), where,
+                         "cannot create a dataspace of shape " + format_dims(dims)));
+}
+
+// Variable-length UTF-8 strings, used both in the file and in memory (as const char* / char*).
+Handle vlen_string_type() {
+  Handle type(H5Tcopy(H5T_C_S1));
+  H5Tset_size(type.get(), H5T_VARIABLE);
+  H5Tset_cset(type.get(), H5T_CSET_UTF8);
+  return type;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Chunking
+
+void check_deflate_level(int level, const std::string& where) {
+  if (level < 0 || level > 9) fail(where, "deflate level must be 0..9, got " + std::to_string(level));
+}
+
+// An automatic chunk shape: halve the largest dimension until the chunk holds at most
+// kChunkTargetValues values.
+std::vector<hsize_t> automatic_chunk(const std::vector<hsize_t>& dims) {
+  std::vector<hsize_t> chunk = dims;
+  for (hsize_t& c : chunk) c = std::max<hsize_t>(c, 1);
+  while (element_count(chunk) > kChunkTargetValues) {
+    hsize_t& largest = *std::max_element(chunk.begin(), chunk.end());
+    if (largest == 1) break;
+    largest = (largest + 1) / 2;
+  }
+  return chunk;
+}
+
+// Chunk dims for a fixed-size dataset, or empty for contiguous storage: the caller's chunk when
+// given (clamped to the dataset: HDF5 rejects fixed-size chunks larger than the data), else an
+// automatic one for arrays of more than kAutoChunkThreshold values.
+std::vector<hsize_t> chunk_for(const std::vector<hsize_t>& dims, const Chunking& chunking,
+                               const std::string& where) {
+  const hsize_t count = element_count(dims);
+  if (dims.empty() || count == 0) return {};  // scalars and empty arrays cannot be chunked
+  if (chunking.chunk.empty())
+    return count > kAutoChunkThreshold ? automatic_chunk(dims) : std::vector<hsize_t>{};
+  if (chunking.chunk.size() != dims.size()) {
+    fail(where, "chunk shape " + format_dims(chunking.chunk) + " does not have the rank of the data shape " +
+                    format_dims(dims));
+  }
+  std::vector<hsize_t> chunk(dims.size());
+  for (size_t i = 0; i < dims.size(); ++i) {
+    if (chunking.chunk[i] == 0) fail(where, "chunk shape " + format_dims(chunking.chunk) + " has a zero");
+    chunk[i] = std::min(chunking.chunk[i], dims[i]);
+  }
+  return chunk;
+}
+
+// Dataset creation properties: chunked with shuffle + deflate when `chunk` is given, else defaults.
+Handle dataset_creation_plist(const std::vector<hsize_t>& chunk, int deflate_level,
+                              const std::string& where) {
+  Handle dcpl(check_id(H5Pcreate(H5P_DATASET_CREATE), where, "cannot create a property list"));
+  if (chunk.empty()) return dcpl;
+  check_deflate_level(deflate_level, where);
+  check_status(H5Pset_chunk(dcpl.get(), static_cast<int>(chunk.size()), chunk.data()), where,
+               "cannot set chunk shape " + format_dims(chunk));
+  if (deflate_level > 0) {
+    // Byte shuffling before deflate groups the exponent bytes of doubles: much better compression.
+    check_status(H5Pset_shuffle(dcpl.get()), where, "cannot set the shuffle filter");
+    check_status(H5Pset_deflate(dcpl.get(), static_cast<unsigned>(deflate_level)), where,
+                 "cannot set deflate compression");
+  }
+  return dcpl;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Writing
+
+// Before creating `name`: it must not exist, and its existing parents must be groups.
+void require_new(hid_t loc, std::string_view name, const std::string& where) {
+  if (link_exists(loc, name)) fail(where, "already exists");
+  require_parent_groups(loc, name, where);
+}
+
+// Create dataset `name` with the given shape and storage, and write `data` (in memory type `mem_type`).
+void create_dataset(hid_t loc, std::string_view name, const std::string& where, hid_t file_type,
+                    hid_t mem_type, const std::vector<hsize_t>& dims, const void* data,
+                    const std::vector<hsize_t>& chunk = {}, int deflate_level = kDefaultDeflateLevel) {
+  require_new(loc, name, where);
+  const Handle space = make_dataspace(dims, where);
+  const Handle dcpl = dataset_creation_plist(chunk, deflate_level, where);
+  const Handle lcpl = intermediate_groups_lcpl();
+  const Handle dataset(check_id(
+      H5Dcreate2(loc, std::string(name).c_str(), file_type, space.get(), lcpl.get(), dcpl.get(), H5P_DEFAULT),
+      where, "cannot create dataset"));
+  // HDF5 rejects a null buffer even for zero values, and an empty std::vector may have one.
+  if (element_count(dims) == 0) return;
+  check_status(H5Dwrite(dataset.get(), mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), where,
+               "cannot write dataset");
+}
+
+void create_double_dataset(hid_t loc, std::string_view name, const std::string& where, const double* data,
+                           const std::vector<hsize_t>& dims, const Chunking& chunking = {}) {
+  create_dataset(loc, name, where, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, dims, data,
+                 chunk_for(dims, chunking, where), chunking.deflate_level);
+}
+
+std::vector<const char*> c_strings(const std::vector<std::string>& values) {
+  std::vector<const char*> pointers;
+  pointers.reserve(values.size());
+  for (const std::string& value : values) pointers.push_back(value.c_str());
+  return pointers;
+}
+
+// Create (or replace) attribute `attr` on `object` and write `data` into it.
+void write_attribute(hid_t loc, std::string_view object, std::string_view attr,
+                     const std::string& object_where, hid_t file_type, hid_t mem_type,
+                     const std::vector<hsize_t>& dims, const void* data) {
+  const std::string where = attribute_where(object_where, attr);
+  if (!link_exists(loc, object)) fail(object_where, "no such group or dataset");
+  const std::string object_name(object);
+  const std::string attr_name(attr);
+  // Attributes cannot be resized or retyped in place: setting one again replaces it.
+  const htri_t exists = H5Aexists_by_name(loc, object_name.c_str(), attr_name.c_str(), H5P_DEFAULT);
+  check_status(exists < 0 ? -1 : 0, where, "cannot check for the attribute");
+  if (exists > 0) {
+    check_status(H5Adelete_by_name(loc, object_name.c_str(), attr_name.c_str(), H5P_DEFAULT), where,
+                 "cannot replace the attribute");
+  }
+  const Handle space = make_dataspace(dims, where);
+  const Handle attribute(check_id(H5Acreate_by_name(loc, object_name.c_str(), attr_name.c_str(), file_type,
+                                                    space.get(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                                  where, "cannot create the attribute"));
+  if (element_count(dims) == 0) return;
+  check_status(H5Awrite(attribute.get(), mem_type, data), where, "cannot write the attribute");
+}
+
+// ---------------------------------------------------------------------------------------------
+// Reading: a dataset and an attribute both have a dataspace, a datatype and a read call.
+
+struct Source {
+  Handle object;  // a dataset or an attribute
+  std::string where;
+  bool is_attribute() const { return H5Iget_type(object.get()) == H5I_ATTR; }
+};
+
+struct Extent {
+  bool null = false;          // H5S_NULL: a dataspace with no elements at all (h5py's Empty)
+  std::vector<hsize_t> dims;  // empty for a scalar
+  std::vector<hsize_t> max_dims;
+  hsize_t count() const { return null ? 0 : element_count(dims); }
+  std::string describe() const {
+    return null ? "an empty (null) dataspace" : dims.empty() ? "a scalar" : "shape " + format_dims(dims);
+  }
+};
+
+Extent extent_of(const Source& source) {
+  const Handle space(
+      check_id(source.is_attribute() ? H5Aget_space(source.object.get()) : H5Dget_space(source.object.get()),
+               source.where, "cannot get the dataspace"));
+  Extent extent;
+  if (H5Sget_simple_extent_type(space.get()) == H5S_NULL) {
+    extent.null = true;
+    return extent;
+  }
+  const int rank = H5Sget_simple_extent_ndims(space.get());
+  check_status(rank, source.where, "cannot get the rank");
+  extent.dims.resize(static_cast<size_t>(rank));
+  extent.max_dims.resize(static_cast<size_t>(rank));
+  check_status(H5Sget_simple_extent_dims(space.get(), extent.dims.data(), extent.max_dims.data()),
+               source.where, "cannot get the shape");
+  return extent;
+}
+
+Handle type_of(const Source& source) {
+  return Handle(
+      check_id(source.is_attribute() ? H5Aget_type(source.object.get()) : H5Dget_type(source.object.get()),
+               source.where, "cannot get the datatype"));
+}
+
+// Read all elements, converted by HDF5 to `mem_type`.
+void read_raw(const Source& source, hid_t mem_type, void* buffer) {
+  const herr_t status = source.is_attribute()
+                            ? H5Aread(source.object.get(), mem_type, buffer)
+                            : H5Dread(source.object.get(), mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, buffer);
+  check_status(status, source.where, "cannot read");
+}
+
+Source open_dataset(hid_t loc, std::string_view name, const std::string& where) {
+  if (!link_exists(loc, name)) fail(where, "no such dataset");
+  Handle object(check_id(H5Oopen(loc, std::string(name).c_str(), H5P_DEFAULT), where, "cannot open"));
+  if (H5Iget_type(object.get()) == H5I_GROUP) fail(where, "expected a dataset, found a group");
+  if (H5Iget_type(object.get()) != H5I_DATASET) fail(where, "expected a dataset, found a named datatype");
+  return Source{std::move(object), where};
+}
+
+Source open_attribute(hid_t loc, std::string_view object, std::string_view attr,
+                      const std::string& object_where) {
+  const std::string where = attribute_where(object_where, attr);
+  if (!link_exists(loc, object)) fail(object_where, "no such group or dataset");
+  const std::string object_name(object);
+  const std::string attr_name(attr);
+  if (H5Aexists_by_name(loc, object_name.c_str(), attr_name.c_str(), H5P_DEFAULT) <= 0) {
+    fail(object_where, "no attribute '" + attr_name + "'");
+  }
+  Handle attribute(
+      check_id(H5Aopen_by_name(loc, object_name.c_str(), attr_name.c_str(), H5P_DEFAULT, H5P_DEFAULT), where,
+               "cannot open the attribute"));
+  return Source{std::move(attribute), where};
+}
+
+// Shape checks. Each returns the extent, or throws "expected ..., found shape (...)".
+
+Extent require_single_value(const Source& source) {
+  const Extent extent = extent_of(source);
+  if (extent.count() != 1) fail(source.where, "expected a single value, found " + extent.describe());
+  return extent;
+}
+
+Extent require_1d(const Source& source, std::optional<hsize_t> expected_size = {}) {
+  const Extent extent = extent_of(source);
+  const bool ok =
+      !extent.null && extent.dims.size() == 1 && (!expected_size || extent.dims[0] == *expected_size);
+  if (!ok) {
+    const std::string expected =
+        expected_size ? "a 1-D dataset of " + std::to_string(*expected_size) + " values" : "a 1-D dataset";
+    fail(source.where, "expected " + expected + ", found " + extent.describe());
+  }
+  return extent;
+}
+
+// Element type checks: doubles accept any float or integer data (HDF5 converts), integers only
+// integer data (no silent truncation of floats), strings only strings.
+
+void require_numeric(const Source& source, const Handle& type, bool integer_only) {
+  const H5T_class_t type_class = H5Tget_class(type.get());
+  const bool ok = type_class == H5T_INTEGER || (!integer_only && type_class == H5T_FLOAT);
+  if (!ok) {
+    fail(source.where, std::string("expected ") + (integer_only ? "integer" : "float64") + " data, found " +
+                           describe_type(type.get()));
+  }
+}
+
+std::vector<double> read_doubles(const Source& source, hsize_t count) {
+  require_numeric(source, type_of(source), false);
+  std::vector<double> values(count);
+  if (count > 0) read_raw(source, H5T_NATIVE_DOUBLE, values.data());
+  return values;
+}
+
+std::vector<std::int64_t> read_int64s(const Source& source, hsize_t count) {
+  require_numeric(source, type_of(source), true);
+  std::vector<std::int64_t> values(count);
+  if (count > 0) read_raw(source, H5T_NATIVE_INT64, values.data());
+  return values;
+}
+
+// Strings: variable-length (ours, and h5py's str) or fixed-length (h5py's numpy bytes). HDF5 cannot
+// convert between the two, so each is read in its own memory type.
+std::vector<std::string> read_strings_from(const Source& source, hsize_t count) {
+  const Handle type = type_of(source);
+  if (H5Tget_class(type.get()) != H5T_STRING) {
+    fail(source.where, "expected string data, found " + describe_type(type.get()));
+  }
+  std::vector<std::string> values;
+  values.reserve(count);
+  if (count == 0) return values;
+  if (H5Tis_variable_str(type.get()) > 0) {
+    // HDF5 allocates each string; we copy and free them.
+    const Handle mem_type = vlen_string_type();
+    std::vector<char*> pointers(count, nullptr);
+    read_raw(source, mem_type.get(), pointers.data());
+    for (char* pointer : pointers) {
+      values.emplace_back(pointer != nullptr ? pointer : "");
+      H5free_memory(pointer);
+    }
+    return values;
+  }
+  // Fixed length: read the raw bytes in the file's own string type and strip the padding.
+  const size_t size = H5Tget_size(type.get());
+  const H5T_str_t padding = H5Tget_strpad(type.get());
+  std::vector<char> bytes(count * size);
+  read_raw(source, type.get(), bytes.data());
+  for (hsize_t i = 0; i < count; ++i) {
+    std::string value(bytes.data() + i * size, size);
+    if (padding == H5T_STR_SPACEPAD) {
+      value.erase(value.find_last_not_of(' ') + 1);
+    } else {
+      value.erase(std::min(value.find('\0'), value.size()));
+    }
+    values.push_back(std::move(value));
+  }
+  return values;
+}
+
+}  // namespace
+
+// =============================================================================================
+// Handle
+
+namespace {
+// Close `id` with the H5*close of its kind. Ids already closed (e.g. by a strong file close) are skipped;
+// HDF5 does not reuse ids, so a stale id never names another object.
+void close_id(hid_t id) noexcept {
+  if (id < 0 || H5Iis_valid(id) <= 0) return;
+  switch (H5Iget_type(id)) {
+    case H5I_FILE:
+      H5Fclose(id);
+      break;
+    case H5I_GROUP:
+      H5Gclose(id);
+      break;
+    case H5I_DATASET:
+      H5Dclose(id);
+      break;
+    case H5I_DATASPACE:
+      H5Sclose(id);
+      break;
+    case H5I_DATATYPE:
+      H5Tclose(id);
+      break;
+    case H5I_ATTR:
+      H5Aclose(id);
+      break;
+    case H5I_GENPROP_LST:
+      H5Pclose(id);
+      break;
+    default:
+      break;
+  }
+}
+}  // namespace
+
+Handle& Handle::operator=(Handle&& other) noexcept {
+  if (this != &other) {
+    close_id(id_);
+    id_ = other.id_;
+    other.id_ = H5I_INVALID_HID;
+  }
+  return *this;
+}
+
+Handle::~Handle() {
+  close_id(id_);
+}
+
+// =============================================================================================
+// AppendableDataset
+
+void AppendableDataset::append(std::span<const double> row_major_values) {
+  if (!dataset_.valid()) throw Error("append() on an AppendableDataset not made by Group::create_appendable");
+  if (row_major_values.size() % columns_ != 0) {
+    fail(path_, "cannot append " + std::to_string(row_major_values.size()) +
+                    " values: not a whole number of rows of " + std::to_string(columns_) + " columns");
+  }
+  const hsize_t new_rows = row_major_values.size() / columns_;
+  if (new_rows == 0) return;
+  // Grow the dataset, then write into the new rows: a hyperslab of the file's dataspace.
+  const hsize_t extent[2] = {rows_ + new_rows, columns_};
+  check_status(H5Dset_extent(dataset_.get(), extent), path_, "cannot extend");
+  const Handle file_space(check_id(H5Dget_space(dataset_.get()), path_, "cannot get the dataspace"));
+  const hsize_t start[2] = {rows_, 0};
+  const hsize_t count[2] = {new_rows, columns_};
+  check_status(H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, start, nullptr, count, nullptr), path_,
+               "cannot select the new rows");
+  const Handle memory_space(
+      check_id(H5Screate_simple(2, count, nullptr), path_, "cannot create a dataspace"));
+  check_status(H5Dwrite(dataset_.get(), H5T_NATIVE_DOUBLE, memory_space.get(), file_space.get(), H5P_DEFAULT,
+                        row_major_values.data()),
+               path_, "cannot append rows");
+  rows_ += new_rows;
+}
+
+void AppendableDataset::flush() {
+  if (!dataset_.valid()) throw Error("flush() on an AppendableDataset not made by Group::create_appendable");
+  check_status(H5Dflush(dataset_.get()), path_, "cannot flush");
+}
+
+// =============================================================================================
+// Group: structure
+
+std::string Group::where(std::string_view name) const {
+  return file_name_ + ":" + join_path(path_, name);
+}
+
+Group Group::create_group(std::string_view path) {
+  const std::string location = where(path);
+  if (link_exists(handle_.get(), path)) return open_group(path);  // open_group rejects a dataset
+  require_parent_groups(handle_.get(), path, location);
+  const Handle lcpl = intermediate_groups_lcpl();
+  const Handle gcpl = creation_order_gcpl();
+  Handle group(
+      check_id(H5Gcreate2(handle_.get(), std::string(path).c_str(), lcpl.get(), gcpl.get(), H5P_DEFAULT),
+               location, "cannot create group"));
+  return Group(std::move(group), join_path(path_, path), file_name_);
+}
+
+Group Group::open_group(std::string_view path) const {
+  const std::string location = where(path);
+  if (!link_exists(handle_.get(), path)) fail(location, "no such group");
+  Handle object(
+      check_id(H5Oopen(handle_.get(), std::string(path).c_str(), H5P_DEFAULT), location, "cannot open"));
+  if (H5Iget_type(object.get()) != H5I_GROUP) fail(location, "expected a group, found a dataset");
+  return Group(std::move(object), join_path(path_, path), file_name_);
+}
+
+bool Group::exists(std::string_view path) const {
+  return link_exists(handle_.get(), path);
+}
+
+std::vector<std::string> Group::members() const {
+  const std::string location = where(".");
+  H5G_info_t info;
+  check_status(H5Gget_info(handle_.get(), &info), location, "cannot list members");
+  // Groups we create track creation order; others (e.g. written by h5py) are listed by name.
+  unsigned order_flags = 0;
+  const Handle gcpl(H5Gget_create_plist(handle_.get()));
+  if (gcpl.valid()) H5Pget_link_creation_order(gcpl.get(), &order_flags);
+  const H5_index_t index = (order_flags & H5P_CRT_ORDER_INDEXED) ? H5_INDEX_CRT_ORDER : H5_INDEX_NAME;
+
+  std::vector<std::string> names;
+  names.reserve(info.nlinks);
+  for (hsize_t i = 0; i < info.nlinks; ++i) {
+    // First call: the name's length; second: the name (plus its terminating NUL).
+    const ssize_t length =
+        H5Lget_name_by_idx(handle_.get(), ".", index, H5_ITER_INC, i, nullptr, 0, H5P_DEFAULT);
+    check_status(length < 0 ? -1 : 0, location, "cannot list members");
+    std::string name(static_cast<size_t>(length) + 1, '\0');
+    H5Lget_name_by_idx(handle_.get(), ".", index, H5_ITER_INC, i, name.data(), name.size(), H5P_DEFAULT);
+    name.resize(static_cast<size_t>(length));
+    names.push_back(std::move(name));
+  }
+  return names;
+}
+
+// =============================================================================================
+// Group: writing datasets
+
+void Group::write(std::string_view name, double value) {
+  create_double_dataset(handle_.get(), name, where(name), &value, {});
+}
+
+void Group::write(std::string_view name, std::int64_t value) {
+  create_dataset(handle_.get(), name, where(name), H5T_STD_I64LE, H5T_NATIVE_INT64, {}, &value);
+}
+
+void Group::write(std::string_view name, int value) {
+  write(name, static_cast<std::int64_t>(value));
+}
+
+void Group::write(std::string_view name, const Eigen::VectorXd& values) {
+  create_double_dataset(handle_.get(), name, where(name), values.data(),
+                        {static_cast<hsize_t>(values.size())});
+}
+
+void Group::write(std::string_view name, const Eigen::MatrixXd& values) {
+  // Eigen stores columns contiguously; HDF5 datasets are row-major. Transpose the buffer so that
+  // dataset element [i, j] is the matrix entry (i, j).
+  const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> row_major = values;
+  create_double_dataset(handle_.get(), name, where(name), row_major.data(),
+                        {static_cast<hsize_t>(values.rows()), static_cast<hsize_t>(values.cols())});
+}
+
+void Group::write(std::string_view name, std::span<const double> row_major, const std::vector<hsize_t>& dims,
+                  const Chunking& chunking) {
+  if (element_count(dims) != row_major.size()) {
+    fail(where(name), "shape " + format_dims(dims) + " needs " + std::to_string(element_count(dims)) +
+                          " values, got " + std::to_string(row_major.size()));
+  }
+  create_double_dataset(handle_.get(), name, where(name), row_major.data(), dims, chunking);
+}
+
+void Group::write(std::string_view name, std::span<const std::int64_t> values) {
+  const std::vector<hsize_t> dims = {values.size()};
+  create_dataset(handle_.get(), name, where(name), H5T_STD_I64LE, H5T_NATIVE_INT64, dims, values.data(),
+                 chunk_for(dims, {}, where(name)));
+}
+
+void Group::write(std::string_view name, const std::vector<std::string>& values) {
+  const Handle type = vlen_string_type();
+  const std::vector<const char*> pointers = c_strings(values);
+  create_dataset(handle_.get(), name, where(name), type.get(), type.get(), {values.size()}, pointers.data());
+}
+
+void Group::write(std::string_view name, const std::string& value) {
+  const Handle type = vlen_string_type();
+  const char* pointer = value.c_str();
+  create_dataset(handle_.get(), name, where(name), type.get(), type.get(), {}, &pointer);
+}
+
+AppendableDataset Group::create_appendable(std::string_view name, hsize_t columns, const Chunking& chunking) {
+  const std::string location = where(name);
+  if (columns == 0) fail(location, "an appendable dataset needs at least one column");
+  require_new(handle_.get(), name, location);
+  // Rows are unlimited (H5S_UNLIMITED), which HDF5 only allows for chunked datasets.
+  std::vector<hsize_t> chunk = chunking.chunk;
+  if (chunk.empty()) {
+    const hsize_t chunk_columns = std::min(columns, kChunkTargetValues);
+    chunk = {std::max<hsize_t>(1, kChunkTargetValues / chunk_columns), chunk_columns};
+  } else if (chunk.size() != 2 || chunk[0] == 0 || chunk[1] == 0) {
+    fail(location,
+         "chunk shape " + format_dims(chunk) + " of an appendable dataset must be (rows, columns) > 0");
+  }
+  chunk[1] = std::min(chunk[1], columns);
+
+  const hsize_t dims[2] = {0, columns};
+  const hsize_t max_dims[2] = {H5S_UNLIMITED, columns};
+  const Handle space(check_id(H5Screate_simple(2, dims, max_dims), location, "cannot create a dataspace"));
+  const Handle dcpl = dataset_creation_plist(chunk, chunking.deflate_level, location);
+  const Handle lcpl = intermediate_groups_lcpl();
+  AppendableDataset appendable;
+  appendable.dataset_ = Handle(check_id(H5Dcreate2(handle_.get(), std::string(name).c_str(), H5T_IEEE_F64LE,
+                                                   space.get(), lcpl.get(), dcpl.get(), H5P_DEFAULT),
+                                        location, "cannot create dataset"));
+  appendable.path_ = location;
+  appendable.columns_ = columns;
+  return appendable;
+}
+
+AppendableDataset Group::open_appendable(std::string_view name) {
+  Source source = open_dataset(handle_.get(), name, where(name));
+  const Extent extent = extent_of(source);
+  if (extent.null || extent.dims.size() != 2 || extent.max_dims[0] != H5S_UNLIMITED) {
+    fail(source.where, "expected an appendable 2-D dataset (unlimited rows), found " + extent.describe());
+  }
+  require_numeric(source, type_of(source), false);
+  AppendableDataset appendable;
+  appendable.dataset_ = std::move(source.object);
+  appendable.path_ = source.where;
+  appendable.rows_ = extent.dims[0];
+  appendable.columns_ = extent.dims[1];
+  return appendable;
+}
+
+// =============================================================================================
+// Group: attributes
+
+void Group::set_attribute(std::string_view attr, const std::string& value, std::string_view object) {
+  const Handle type = vlen_string_type();
+  const char* pointer = value.c_str();
+  write_attribute(handle_.get(), object, attr, where(object), type.get(), type.get(), {}, &pointer);
+}
+
+void Group::set_attribute(std::string_view attr, const char* value, std::string_view object) {
+  set_attribute(attr, std::string(value != nullptr ? value : ""), object);
+}
+
+void Group::set_attribute(std::string_view attr, double value, std::string_view object) {
+  write_attribute(handle_.get(), object, attr, where(object), H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, {}, &value);
+}
+
+void Group::set_attribute(std::string_view attr, std::int64_t value, std::string_view object) {
+  write_attribute(handle_.get(), object, attr, where(object), H5T_STD_I64LE, H5T_NATIVE_INT64, {}, &value);
+}
+
+void Group::set_attribute(std::string_view attr, int value, std::string_view object) {
+  set_attribute(attr, static_cast<std::int64_t>(value), object);
+}
+
+void Group::set_attribute(std::string_view attr, const std::vector<double>& value, std::string_view object) {
+  write_attribute(handle_.get(), object, attr, where(object), H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE,
+                  {value.size()}, value.data());
+}
+
+void Group::set_attribute(std::string_view attr, const std::vector<std::string>& value,
+                          std::string_view object) {
+  const Handle type = vlen_string_type();
+  const std::vector<const char*> pointers = c_strings(value);
+  write_attribute(handle_.get(), object, attr, where(object), type.get(), type.get(), {value.size()},
+                  pointers.data());
+}
+
+bool Group::has_attribute(std::string_view attr, std::string_view object) const {
+  if (!link_exists(handle_.get(), object)) return false;
+  return H5Aexists_by_name(handle_.get(), std::string(object).c_str(), std::string(attr).c_str(),
+                           H5P_DEFAULT) > 0;
+}
+
+std::string Group::string_attribute(std::string_view attr, std::string_view object) const {
+  const Source source = open_attribute(handle_.get(), object, attr, where(object));
+  require_single_value(source);
+  return read_strings_from(source, 1).front();
+}
+
+double Group::double_attribute(std::string_view attr, std::string_view object) const {
+  const Source source = open_attribute(handle_.get(), object, attr, where(object));
+  require_single_value(source);
+  return read_doubles(source, 1).front();
+}
+
+std::int64_t Group::int_attribute(std::string_view attr, std::string_view object) const {
+  const Source source = open_attribute(handle_.get(), object, attr, where(object));
+  require_single_value(source);
+  return read_int64s(source, 1).front();
+}
+
+std::vector<std::string> Group::strings_attribute(std::string_view attr, std::string_view object) const {
+  const Source source = open_attribute(handle_.get(), object, attr, where(object));
+  return read_strings_from(source, require_1d(source).count());
+}
+
+std::vector<double> Group::doubles_attribute(std::string_view attr, std::string_view object) const {
+  const Source source = open_attribute(handle_.get(), object, attr, where(object));
+  return read_doubles(source, require_1d(source).count());
+}
+
+// =============================================================================================
+// Group: reading datasets
+
+std::vector<hsize_t> Group::shape(std::string_view name) const {
+  const Source source = open_dataset(handle_.get(), name, where(name));
+  return extent_of(source).dims;
+}
+
+double Group::read_double(std::string_view name) const {
+  const Source source = open_dataset(handle_.get(), name, where(name));
+  require_single_value(source);
+  return read_doubles(source, 1).front();
+}
+
+std::int64_t Group::read_int(std::string_view name) const {
+  const Source source = open_dataset(handle_.get(), name, where(name));
+  require_single_value(source);
+  return read_int64s(source, 1).front();
+}
+
+Eigen::VectorXd Group::read_vector(std::string_view name, std::optional<hsize_t> expected_size) const {
+  const Source source = open_dataset(handle_.get(), name, where(name));
+  const std::vector<double> values = read_doubles(source, require_1d(source, expected_size).count());
+  return Eigen::Map<const Eigen::VectorXd>(values.data(), static_cast<Eigen::Index>(values.size()));
+}
+
+Eigen::MatrixXd Group::read_matrix(std::string_view name, std::optional<hsize_t> expected_rows,
+                                   std::optional<hsize_t> expected_cols) const {
+  const Source source = open_dataset(handle_.get(), name, where(name));
+  const Extent extent = extent_of(source);
+  const bool ok = !extent.null && extent.dims.size() == 2 &&
+                  (!expected_rows || extent.dims[0] == *expected_rows) &&
+                  (!expected_cols || extent.dims[1] == *expected_cols);
+  if (!ok) {
+    std::string expected = "a 2-D dataset";
+    if (expected_rows && expected_cols) {
+      expected += " of shape " + format_dims({*expected_rows, *expected_cols});
+    } else if (expected_rows) {
+      expected += " with " + std::to_string(*expected_rows) + " rows";
+    } else if (expected_cols) {
+      expected += " with " + std::to_string(*expected_cols) + " columns";
+    }
+    fail(source.where, "expected " + expected + ", found " + extent.describe());
+  }
+  const std::vector<double> values = read_doubles(source, extent.count());
+  // The dataset is row-major: map it as such, and let Eigen copy it into column-major storage.
+  using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  return Eigen::Map<const RowMajor>(values.data(), static_cast<Eigen::Index>(extent.dims[0]),
+                                    static_cast<Eigen::Index>(extent.dims[1]));
+}
+
+std::vector<double> Group::read_array(std::string_view name, std::vector<hsize_t>& dims) const {
+  const Source source = open_dataset(handle_.get(), name, where(name));
+  const Extent extent = extent_of(source);
+  if (extent.null) fail(source.where, "expected an array, found " + extent.describe());
+  std::vector<double> values = read_doubles(source, extent.count());
+  dims = extent.dims;
+  return values;
+}
+
+std::vector<std::int64_t> Group::read_ints(std::string_view name) const {
+  const Source source = open_dataset(handle_.get(), name, where(name));
+  return read_int64s(source, require_1d(source).count());
+}
+
+std::vector<std::string> Group::read_strings(std::string_view name) const {
+  const Source source = open_dataset(handle_.get(), name, where(name));
+  return read_strings_from(source, require_1d(source).count());
+}
+
+std::string Group::read_string(std::string_view name) const {
+  const Source source = open_dataset(handle_.get(), name, where(name));
+  require_single_value(source);
+  return read_strings_from(source, 1).front();
+}
+
+// =============================================================================================
+// File
+
+namespace {
+
+// File access properties of created files: a "strong" close, so closing the file also closes every
+// group and dataset the caller still holds in it. commit() and the destructor then really release the
+// temporary, and a stale Group fails instead of writing into the committed file.
+// Files opened by open_read/open_append keep HDF5's default ("weak") close instead: HDF5 refuses to
+// open one file twice with different close degrees, and the raw C API (or another library) in the same
+// process uses the default.
+Handle strong_close_fapl() {
+  Handle fapl(H5Pcreate(H5P_FILE_ACCESS));
+  H5Pset_fclose_degree(fapl.get(), H5F_CLOSE_STRONG);
+  return fapl;
+}
+
+Handle open_root(hid_t file, const std::string& file_name) {
+  return Handle(check_id(H5Gopen2(file, "/", H5P_DEFAULT), file_name, "cannot open the root group"));
+}
+
+// Open an existing file; `flags` is H5F_ACC_RDONLY or H5F_ACC_RDWR.
+Handle open_existing(const std::filesystem::path& path, unsigned flags) {
+  silence_hdf5_errors();
+  std::error_code error;
+  if (!std::filesystem::exists(path, error)) fail(path.string(), "no such file");
+  if (std::filesystem::is_directory(path, error))
+    fail(path.string(), "is a directory, expected an HDF5 file");
+  const hid_t id = H5Fopen(path.c_str(), flags, H5P_DEFAULT);
+  const std::string mode = flags == H5F_ACC_RDWR ? "for appending" : "for reading";
+  return Handle(
+      check_id(id, path.string(), "cannot open " + mode + " (not an HDF5 file, or not accessible)"));
+}
+
+}  // namespace
+
+File File::create(const std::filesystem::path& path) {
+  silence_hdf5_errors();
+  const std::string name = path.string();
+  std::error_code error;
+  const std::filesystem::path parent = path.parent_path();
+  if (!parent.empty() && !std::filesystem::is_directory(parent, error)) {
+    fail(name, "cannot create: directory '" + parent.string() + "' does not exist");
+  }
+  File file;
+  file.path_ = path;
+  file.temporary_ = path;
+  file.temporary_ += ".tmp-" + std::to_string(::getpid());
+
+  // Track link creation order in the root group (a file creation list carries group properties).
+  const Handle fcpl(H5Pcreate(H5P_FILE_CREATE));
+  H5Pset_link_creation_order(fcpl.get(), H5P_CRT_ORDER_TRACKED | H5P_CRT_ORDER_INDEXED);
+  const Handle fapl = strong_close_fapl();
+  file.file_ = Handle(check_id(H5Fcreate(file.temporary_.c_str(), H5F_ACC_TRUNC, fcpl.get(), fapl.get()),
+                               name, "cannot create temporary file '" + file.temporary_.string() + "'"));
+  file.root_ = Group(open_root(file.file_.get(), name), "/", name);
+  return file;
+}
+
+File File::open_read(const std::filesystem::path& path) {
+  File file;
+  file.path_ = path;
+  file.file_ = open_existing(path, H5F_ACC_RDONLY);
+  file.root_ = Group(open_root(file.file_.get(), path.string()), "/", path.string());
+  return file;
+}
+
+File File::open_append(const std::filesystem::path& path) {
+  File file;
+  file.path_ = path;
+  file.file_ = open_existing(path, H5F_ACC_RDWR);
+  file.root_ = Group(open_root(file.file_.get(), path.string()), "/", path.string());
+  return file;
+}
+
+File::File(File&& other) noexcept
+    : path_(std::move(other.path_)),
+      temporary_(std::move(other.temporary_)),
+      file_(std::move(other.file_)),
+      root_(std::move(other.root_)) {
+  other.temporary_.clear();
+}
+
+File& File::operator=(File&& other) noexcept {
+  if (this != &other) {
+    close_and_discard();
+    path_ = std::move(other.path_);
+    temporary_ = std::move(other.temporary_);
+    file_ = std::move(other.file_);
+    root_ = std::move(other.root_);
+    other.temporary_.clear();
+  }
+  return *this;
+}
+
+File::~File() {
+  close_and_discard();
+}
+
+void File::close_and_discard() noexcept {
+  root_ = Group();
+  file_ = Handle();  // a created file: strong close, also closes whatever the caller still holds
+  if (!temporary_.empty()) {
+    std::error_code ignored;
+    std::filesystem::remove(temporary_, ignored);
+    temporary_.clear();
+  }
+}
+
+Group File::root() {
+  if (!file_.valid()) throw Error(path_.string() + ": the file is closed (committed or moved from)");
+  return root_.open_group(".");
+}
+
+const Group& File::root() const {
+  return root_;
+}
+
+void File::commit() {
+  const std::string name = path_.string();
+  if (temporary_.empty()) fail(name, "commit() of a file not made by File::create, or committed already");
+  // Close explicitly to see errors (a full disk shows up here); the strong close degree closes every
+  // object still open in the file first. The Handle then finds its id invalid and does nothing.
+  root_ = Group();
+  check_status(H5Fclose(file_.get()), name, "cannot write '" + temporary_.string() + "'");
+  file_ = Handle();
+  std::error_code error;
+  std::filesystem::rename(temporary_, path_, error);
+  if (error) fail(name, "cannot rename '" + temporary_.string() + "' onto it: " + error.message());
+  temporary_.clear();
+}
+
+void silence_hdf5_errors() {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+}
+
+}  // namespace nvh::h5

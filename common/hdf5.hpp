@@ -89,8 +89,19 @@ class Group {
   // --- writing datasets (error if the name exists) ---
   void write(std::string_view name, double value);
   void write(std::string_view name, std::int64_t value);
+  void write(std::string_view name, int value);  // as int64 (a bare `3` would otherwise be ambiguous)
   void write(std::string_view name, const Eigen::VectorXd& values);
   void write(std::string_view name, const Eigen::MatrixXd& values);  // shape (rows, cols)
+  /// Any other Eigen expression (e.g. `A * x`, `VectorXd::Zero(n)`, which would be ambiguous between the two
+  /// above): a vector if it has one column at compile time, else a matrix.
+  template <typename Derived>
+  void write(std::string_view name, const Eigen::MatrixBase<Derived>& values) {
+    if constexpr (Derived::ColsAtCompileTime == 1) {
+      write(name, Eigen::VectorXd(values));
+    } else {
+      write(name, Eigen::MatrixXd(values));
+    }
+  }
   void write(std::string_view name, std::span<const double> row_major, const std::vector<hsize_t>& dims,
              const Chunking& chunking = {});
   void write(std::string_view name, std::span<const std::int64_t> values);
@@ -99,6 +110,8 @@ class Group {
 
   /// An extendible, chunked, compressed 2-D dataset (unlimited rows, fixed columns).
   AppendableDataset create_appendable(std::string_view name, hsize_t columns, const Chunking& chunking = {});
+  /// Reopen a dataset made by create_appendable to append more rows (restart with File::open_append).
+  AppendableDataset open_appendable(std::string_view name);
 
   // --- attributes on this group (or, with `object`, on a member dataset/group) ---
   void set_attribute(std::string_view attr, const std::string& value, std::string_view object = ".");
@@ -114,6 +127,8 @@ class Group {
   std::string string_attribute(std::string_view attr, std::string_view object = ".") const;
   double double_attribute(std::string_view attr, std::string_view object = ".") const;
   std::int64_t int_attribute(std::string_view attr, std::string_view object = ".") const;
+  std::vector<std::string> strings_attribute(std::string_view attr, std::string_view object = ".") const;
+  std::vector<double> doubles_attribute(std::string_view attr, std::string_view object = ".") const;
 
   // --- reading datasets; errors name file and path, and what was expected against what was found ---
   /// Dims of a dataset.
@@ -169,8 +184,11 @@ class File {
 
  private:
   File() = default;
+  void close_and_discard() noexcept;  // close all handles; remove an uncommitted temporary
+
   std::filesystem::path path_;       // final path
   std::filesystem::path temporary_;  // empty unless created and not yet committed
+  Handle file_;                      // declared before root_ so that root_ is closed first
   Group root_;
 };
 

@@ -333,6 +333,29 @@ struct Table::Impl {
   }
 
   [[noreturn]] void missing(std::string_view key, const std::string& expected) const {
+    // A misspelt key is the usual cause: point at the closest key nobody asked for, if there is one.
+    // Only a key that contains the missing one (or the reverse) counts: "Iyy" for "Iy", not "Iz",
+    // which is likely a valid key not yet read.
+    std::string near;
+    auto lower = [](std::string_view t) {
+      std::string out(t);
+      for (char& ch : out) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+      return out;
+    };
+    const std::string wanted = lower(key);
+    for (const auto& [name, v] : table()) {
+      if (known->count(name)) continue;
+      const std::string candidate = lower(name);
+      if (candidate.find(wanted) != std::string::npos || wanted.find(candidate) != std::string::npos) {
+        near = name;
+        break;
+      }
+    }
+    if (!near.empty()) {
+      throw Error("missing required key (expected " + expected + "); found unknown key '" + near +
+                      "' - did you mean '" + std::string(key) + "'?",
+                  where(table().at(near)), key_path(key));
+    }
     throw Error("missing required key (expected " + expected + ")", table_where(), key_path(key));
   }
 

@@ -97,7 +97,7 @@ void read_beam(const Table& t, Component& c) {
 
   for (const Table& mt : t.table_array("mass")) {
     PointMass pm;
-    pm.where = mt.location();
+    pm.where = mt.location("at");
     pm.at = mt.vec3("at");
     pm.m = mt.number("m", Range::non_negative());
     if (auto j = mt.optional_vec3("J")) {
@@ -125,7 +125,7 @@ std::vector<NamedPoint> read_points(const Table& root, const std::string& key) {
   std::set<std::string> names;
   for (const Table& pt : root.table_array(key)) {
     NamedPoint p;
-    p.where = pt.location();
+    p.where = pt.location("at");
     p.name = pt.string("name");
     if (p.name.empty()) pt.fail("name", "expected a non-empty name");
     if (!names.insert(p.name).second) pt.fail("name", "the name \"" + p.name + "\" is used twice in [[" + key + "]]");
@@ -150,6 +150,7 @@ ReductionSettings read_reduction(const Table& t) {
     t.fail("expected fmax (Hz) or modes (a count) in [reduction]");
   }
   r.fmax_hz = fmax.value_or(0.0);
+  r.where = t.location(fmax ? "fmax" : "modes");
   r.modes = static_cast<int>(modes.value_or(0));
   r.orthonormalize = t.optional_boolean("orthonormalize").value_or(true);
   r.damping_ratio = t.number_or("damping_ratio", 0.0, Range{0.0, 1.0, false, true});
@@ -175,7 +176,7 @@ Component read(const input::Document& doc, const std::filesystem::path& file) {
 
   for (const Table& ft : root.table_array("fix")) {
     Support s;
-    s.where = ft.location();
+    s.where = ft.location("at");
     s.at = ft.vec3("at");
     const std::string dofs = ft.string("dofs");
     try {

@@ -308,8 +308,13 @@ TEST(Input, ArraysOfTablesWithIndexPaths) {
   Error e = expect_error([&] { sections[1].number("A", Range::positive()); });
   expect_at(e, 4, 5, "beam.section[2].A");
   EXPECT_EQ(e.message(), "expected a number > 0, got -1.0");
+  // A missing key with a misspelt one beside it points at the misspelling.
   e = expect_error([&] { sections[1].number("Iy"); });
-  expect_at(e, 3, 1, "beam.section[2].Iy");
+  expect_at(e, 5, 7, "beam.section[2].Iy");
+  EXPECT_TRUE(Contains(e.message(), "found unknown key 'Iyy' - did you mean 'Iy'?"));
+  // Without a near key it points at the table.
+  e = expect_error([&] { sections[1].number("Iz"); });
+  expect_at(e, 3, 1, "beam.section[2].Iz");
   e = expect_error([&] { sections[1].finish(); });
   expect_at(e, 5, 7, "beam.section[2].Iyy");
   EXPECT_TRUE(Contains(e.message(), "unknown key 'Iyy' (did you mean 'Iy'?)"));

@@ -1,0 +1,61 @@
+#pragma once
+// Components built in code for the condense tests (no files), SI units.
+#include <cmath>
+#include <string>
+
+#include "condense/component.hpp"
+
+namespace nvh::condense::testing {
+
+constexpr double kPi = 3.14159265358979323846;
+
+struct Steel {
+  double E = 210e9, nu = 0.3, rho = 7850.0;
+  double G() const { return E / (2.0 * (1.0 + nu)); }
+};
+
+/// A straight beam along x from 0 to L with one section, `elements` elements.
+inline Component straight_beam(double L, const BeamSection& section, int elements, const Steel& steel = {}) {
+  Component c;
+  c.name = "beam";
+  c.kind = "beam";
+  c.materials["steel"] = Material{"steel", steel.E, steel.nu, steel.rho};
+  c.beam.material = "steel";
+  c.beam.points = {Vec3{0, 0, 0}, Vec3{L, 0, 0}};
+  c.beam.elements_per_segment = elements;
+  c.beam.segment_sections = {section};
+  c.reduction.method = ReductionMethod::kModal;
+  return c;
+}
+
+inline BeamSection circle(double d, std::optional<double> shear_factor = {}) {
+  BeamSection s;
+  s.A = kPi * d * d / 4.0;
+  s.Iy = s.Iz = kPi * std::pow(d, 4) / 64.0;
+  s.J = kPi * std::pow(d, 4) / 32.0;
+  s.shear_factor = shear_factor;
+  return s;
+}
+
+inline BeamSection rectangle(double b, double h, std::optional<double> shear_factor = {}) {
+  // b along local y, h along local z. J: Saint-Venant approximation (only torsion uses it).
+  BeamSection s;
+  s.A = b * h;
+  s.Iz = h * b * b * b / 12.0;
+  s.Iy = b * h * h * h / 12.0;
+  const double a = std::max(b, h), t = std::min(b, h);
+  s.J = a * t * t * t * (1.0 / 3.0 - 0.21 * t / a * (1.0 - std::pow(t / a, 4) / 12.0));
+  s.shear_factor = shear_factor;
+  return s;
+}
+
+inline Support fixed(const Vec3& at, const std::string& dofs_mask = "111111") {
+  Support s;
+  s.at = at;
+  for (int d = 0; d < 6; ++d) s.dofs[d] = dofs_mask[d] == '1';
+  return s;
+}
+
+inline NamedPoint point(const std::string& name, const Vec3& at) { return NamedPoint{name, at, {}}; }
+
+}  // namespace nvh::condense::testing

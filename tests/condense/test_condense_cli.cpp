@@ -1,0 +1,212 @@
+// The condense command line: bad input gives a non-zero exit, a message naming file, line and key, and
+// no output file; good input writes the documented layout.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <string>
+
+#include "common/hdf5.hpp"
+#include "condense/superelement.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct CliRun {
+  int exit_code = 0;
+  std::string output;  // stdout and stderr
+};
+
+class CondenseCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("nvh_cli_" + std::to_string(::getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  /// Write `text` to NAME.toml in the test directory and run condense on it.
+  CliRun run_condense(const std::string& text, const std::string& extra = "") {
+    const fs::path input = dir_ / "part.toml";
+    std::ofstream(input) << text;
+    const std::string command =
+        std::string(NVH_CONDENSE_EXE) + " " + input.string() + " -o " + output().string() + " " + extra + " 2>&1";
+    CliRun run;
+    FILE* pipe = popen(command.c_str(), "r");
+    std::array<char, 512> buffer;
+    while (fgets(buffer.data(), buffer.size(), pipe)) run.output += buffer.data();
+    const int status = pclose(pipe);
+    run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return run;
+  }
+  fs::path output() const { return dir_ / "part.h5"; }
+  /// No output and no temporary left behind.
+  bool directory_holds_only_the_input() const {
+    for (const auto& entry : fs::directory_iterator(dir_))
+      if (entry.path().filename() != "part.toml") return false;
+    return true;
+  }
+
+  fs::path dir_;
+};
+
+// A valid cantilever; each bad-input test breaks one line of it. Line numbers matter below.
+const std::string kGood = R"([component]
+name = "rod"
+kind = "beam"
+
+[material.steel]
+E = 210e9
+nu = 0.3
+rho = 7850.0
+
+[beam]
+material = "steel"
+points = [[0, 0, 0], [0.5, 0, 0], [1.0, 0, 0]]
+elements_per_segment = 10
+
+[[beam.section]]
+segments = [1, 2]
+A = 7.85e-5
+Iy = 4.9e-10
+Iz = 4.9e-10
+J = 9.8e-10
+
+[[fix]]
+at = [0, 0, 0]
+dofs = "x y z rx ry rz"
+
+[[interface]]
+name = "tip"
+at = [1.0, 0, 0]
+
+[[observe]]
+name = "middle"
+at = [0.5, 0, 0]
+
+[reduction]
+method = "craig-bampton"
+fmax = 2000.0
+)";
+
+std::string replace(std::string text, const std::string& from, const std::string& to) {
+  const auto at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  return text.replace(at, from.size(), to);
+}
+
+/// The message must name the file and a line ("part.toml:LINE") and the key.
+void expect_located(const CliRun& run, int line, const std::string& key, const std::string& what) {
+  EXPECT_EQ(run.exit_code, 1) << run.output;
+  EXPECT_NE(run.output.find("part.toml:" + std::to_string(line)), std::string::npos)
+      << "expected line " << line << " in: " << run.output;
+  EXPECT_NE(run.output.find(key), std::string::npos) << "expected key " << key << " in: " << run.output;
+  EXPECT_NE(run.output.find(what), std::string::npos) << "expected \"" << what << "\" in: " << run.output;
+}
+
+TEST_F(CondenseCli, GoodInputWritesTheDocumentedLayout) {
+  const CliRun run = run_condense(kGood);
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  nvh::h5::File file = nvh::h5::File::open_read(output());
+  const nvh::h5::Group& root = file.root();
+  EXPECT_EQ(root.string_attribute("format"), "superelement");
+  EXPECT_EQ(root.string_attribute("format_version"), "1.0");
+  EXPECT_EQ(root.string_attribute("units"), "SI");
+  EXPECT_EQ(root.string_attribute("tool"), "condense");
+  EXPECT_EQ(root.string_attribute("input_sha256").size(), 64u);
+  for (const char* path : {"modes/frequency_hz", "reduced/mass", "reduced/stiffness", "reduced/damping",
+                           "interface/name", "interface/position", "interface/shape", "observe/name",
+                           "observe/position", "observe/shape", "invariants/mass", "invariants/center_of_mass",
+                           "invariants/inertia", "invariants/translational_coupling",
+                           "invariants/rotational_coupling", "invariants/quadratic"}) {
+    EXPECT_TRUE(root.exists(path)) << path;
+  }
+  const nvh::condense::Superelement se = nvh::condense::read_superelement(output());
+  EXPECT_EQ(se.interfaces.names.at(0), "tip");
+  EXPECT_NEAR(se.inertia.mass, 7850.0 * 7.85e-5 * 1.0, 1e-9);
+  EXPECT_TRUE(directory_holds_only_the_input() == false);
+}
+
+TEST_F(CondenseCli, MissingKey) {
+  expect_located(run_condense(replace(kGood, "E = 210e9\n", "")), 5, "material.steel.E", "missing");
+  EXPECT_TRUE(directory_holds_only_the_input());
+}
+
+TEST_F(CondenseCli, WrongType) {
+  expect_located(run_condense(replace(kGood, "E = 210e9", "E = \"210 GPa\"")), 6, "material.steel.E",
+                 "expected a number");
+  EXPECT_TRUE(directory_holds_only_the_input());
+}
+
+TEST_F(CondenseCli, NegativeYoungsModulus) {
+  expect_located(run_condense(replace(kGood, "E = 210e9", "E = -210e9")), 6, "material.steel.E", "> 0");
+  EXPECT_TRUE(directory_holds_only_the_input());
+}
+
+TEST_F(CondenseCli, PoissonRatioOfAHalfOrMore) {
+  expect_located(run_condense(replace(kGood, "nu = 0.3", "nu = 0.5")), 7, "material.steel.nu", "0.5");
+  EXPECT_TRUE(directory_holds_only_the_input());
+}
+
+TEST_F(CondenseCli, ZeroLengthSegment) {
+  expect_located(run_condense(replace(kGood, "[0.5, 0, 0], [1.0, 0, 0]]", "[0.5, 0, 0], [0.5, 0, 0]]")), 12,
+                 "beam.points", "zero length");
+  EXPECT_TRUE(directory_holds_only_the_input());
+}
+
+TEST_F(CondenseCli, SegmentWithoutSection) {
+  expect_located(run_condense(replace(kGood, "segments = [1, 2]", "segments = [1, 1]")), 15, "beam.section",
+                 "segment 2");
+  EXPECT_TRUE(directory_holds_only_the_input());
+}
+
+TEST_F(CondenseCli, UnknownMaterial) {
+  expect_located(run_condense(replace(kGood, "material = \"steel\"", "material = \"stel\"")), 11, "beam.material",
+                 "unknown material \"stel\"");
+  EXPECT_TRUE(directory_holds_only_the_input());
+}
+
+TEST_F(CondenseCli, InterfacePointNotOnTheModel) {
+  expect_located(run_condense(replace(kGood, "at = [1.0, 0, 0]", "at = [1.0, 0.2, 0]")), 28, "at",
+                 "not on the model");
+  EXPECT_TRUE(directory_holds_only_the_input());
+}
+
+TEST_F(CondenseCli, FmaxBelowTheFirstMode) {
+  expect_located(run_condense(replace(kGood, "fmax = 2000.0", "fmax = 1.0")), 36, "reduction.fmax",
+                 "below the first fixed-interface mode");
+  EXPECT_TRUE(directory_holds_only_the_input());
+}
+
+TEST_F(CondenseCli, UnknownKeyWithDidYouMean) {
+  expect_located(run_condense(replace(kGood, "J = 9.8e-10", "J = 9.8e-10\nshear_factr = 0.9")), 21,
+                 "shear_factr", "did you mean 'shear_factor'");
+  EXPECT_TRUE(directory_holds_only_the_input());
+}
+
+TEST_F(CondenseCli, MisspeltRequiredKeyPointsAtTheMisspelling) {
+  expect_located(run_condense(replace(kGood, "Iy = 4.9e-10", "Iyy = 4.9e-10")), 18, "Iyy", "did you mean 'Iy'");
+  EXPECT_TRUE(directory_holds_only_the_input());
+}
+
+TEST_F(CondenseCli, BadCommandLineExitsWithTwo) {
+  const CliRun run = run_condense(kGood, "--method craig");
+  EXPECT_EQ(run.exit_code, 2) << run.output;
+  EXPECT_TRUE(directory_holds_only_the_input());
+}
+
+TEST_F(CondenseCli, CommandLineOverridesTheFile) {
+  const CliRun run = run_condense(kGood, "--method modal --modes 3");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const nvh::condense::Superelement se = nvh::condense::read_superelement(output());
+  EXPECT_EQ(se.method, "modal");
+  EXPECT_EQ(se.size(), 3);
+}
+
+}  // namespace
