@@ -1,5 +1,7 @@
 #include "common/hdf5.hpp"
 
+#include "common/interrupt.hpp"
+
 #include <unistd.h>
 
 #include <algorithm>
@@ -891,6 +893,7 @@ File File::create(const std::filesystem::path& path) {
   file.path_ = path;
   file.temporary_ = path;
   file.temporary_ += ".tmp-" + std::to_string(::getpid());
+  register_temporary(file.temporary_);  // removed if a signal stops the run
 
   // Track link creation order in the root group (a file creation list carries group properties).
   const Handle fcpl(H5Pcreate(H5P_FILE_CREATE));
@@ -948,6 +951,7 @@ void File::close_and_discard() noexcept {
   if (!temporary_.empty()) {
     std::error_code ignored;
     std::filesystem::remove(temporary_, ignored);
+    unregister_temporary(temporary_);
     temporary_.clear();
   }
 }
@@ -972,6 +976,7 @@ void File::commit() {
   std::error_code error;
   std::filesystem::rename(temporary_, path_, error);
   if (error) fail(name, "cannot rename '" + temporary_.string() + "' onto it: " + error.message());
+  unregister_temporary(temporary_);
   temporary_.clear();
 }
 

@@ -110,19 +110,20 @@ BeamModel build_beam_model(const Component& c) {
     const int from = model.find_node(link.from, tol);
     if (from < 0) {
       throw Error("the rigid link starts at " + format_point(link.from) +
-                      ", which is not a node of the beam (a station or an element node)",
-                  link.where, "from");
+                      ", which is not a node of the model (a station, an element node, or the end of a rigid "
+                      "link listed before this one)",
+                  link.where, link.path + ".from");
     }
     int to = model.find_node(link.to, tol);
-    if (to == from) throw Error("the rigid link has zero length", link.where, "to");
+    if (to == from) throw Error("the rigid link has zero length", link.where, link.path + ".to");
     if (to >= 0 && model.master_of[to] != to) {
       throw Error("the point " + format_point(link.to) + " is already tied by another rigid link", link.where,
-                  "to");
+                  link.path + ".to");
     }
     if (to >= 0 && to < beam_nodes) {
       throw Error("the rigid link ends on a beam node " + format_point(link.to) +
                       "; rigid links end at points off the beam",
-                  link.where, "to");
+                  link.where, link.path + ".to");
     }
     if (to < 0) {
       model.nodes.push_back(as_vector(link.to));
@@ -201,7 +202,7 @@ BeamModel build_beam_model(const Component& c) {
     if (n < 0) {
       throw Error("the point mass at " + format_point(pm.at) +
                       " is not on the model (not a beam node nor the end of a rigid link)",
-                  pm.where, "at");
+                  pm.where, pm.path + ".at");
     }
     const Eigen::Matrix3d J = Eigen::Vector3d(pm.J[0], pm.J[1], pm.J[2]).asDiagonal();
     for (int k = 0; k < 3; ++k) {
@@ -240,12 +241,12 @@ BeamModel build_beam_model(const Component& c) {
   for (const Support& sup : c.supports) {
     const int n = model.find_node(sup.at, tol);
     if (n < 0) {
-      throw Error("the support at " + format_point(sup.at) + " is not on the model", sup.where, "at");
+      throw Error("the support at " + format_point(sup.at) + " is not on the model", sup.where, sup.path + ".at");
     }
     if (model.master_of[n] != n) {
       throw Error("the support at " + format_point(sup.at) +
                       " is on the end of a rigid link; support its master station instead",
-                  sup.where, "at");
+                  sup.where, sup.path + ".at");
     }
     for (int d = 0; d < 6; ++d)
       if (sup.dofs[d]) model.supported_dof[6 * n + d] = true;

@@ -29,8 +29,8 @@ struct BeamSection {
   double Iy = 0.0;  ///< second moment about the local y axis, m^4 (bending in the x-z plane)
   double Iz = 0.0;  ///< second moment about the local z axis, m^4 (bending in the x-y plane)
   double J = 0.0;   ///< torsion constant (St. Venant), m^4
-  /// Timoshenko shear factor kappa (same for both directions); empty: Euler-Bernoulli (no shear
-  /// deformation, no rotary inertia of bending).
+  /// Timoshenko shear factor kappa (same for both directions); empty: no shear deformation
+  /// (Euler-Bernoulli stiffness; the rotary inertia is still kept unless rotary_inertia = false).
   std::optional<double> shear_factor;
   /// Rotary inertia of bending (default true: the Rayleigh/Timoshenko mass). false gives the classical
   /// Euler-Bernoulli mass, for comparison with its textbook frequencies.
@@ -46,6 +46,7 @@ struct PointMass {
   double m = 0.0;     ///< kg
   Vec3 J{};           ///< principal moments of inertia about the point, in component axes, kg m^2
   SourceLocation where;
+  std::string path;   ///< key path of the entry, e.g. "beam.mass[2]"
 };
 
 /// A rigid offset from a station of the beam (master) to a point (slave node with its own 6 DOF tied).
@@ -53,6 +54,7 @@ struct RigidLink {
   Vec3 from{};
   Vec3 to{};
   SourceLocation where;
+  std::string path;  ///< e.g. "beam.rigid[1]"
 };
 
 /// Supported degrees of freedom at a point: mask over x y z rx ry rz.
@@ -60,6 +62,7 @@ struct Support {
   Vec3 at{};
   std::array<bool, 6> dofs{};
   SourceLocation where;
+  std::string path;  ///< e.g. "fix[1]"
 };
 
 /// A named point of the model: interface (kept as physical 6-DOF node) or observation point.
@@ -67,6 +70,7 @@ struct NamedPoint {
   std::string name;
   Vec3 at{};
   SourceLocation where;
+  std::string path;  ///< e.g. "interface[3]"
 };
 
 enum class ReductionMethod { kModal, kCraigBampton, kGuyan };
@@ -77,7 +81,8 @@ struct ReductionSettings {
   int modes = 0;         ///< ... or this many modes (> 0); exactly one of the two is set
   bool orthonormalize = true;
   double damping_ratio = 0.0;  ///< modal damping ratio zeta of the retained modes
-  SourceLocation where;
+  SourceLocation where;        ///< of fmax or modes (or of the table), for messages
+  std::string where_key = "reduction.fmax";  ///< the key (or command-line option) that set the count
 };
 
 struct BeamGeometry {

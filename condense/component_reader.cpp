@@ -98,6 +98,7 @@ void read_beam(const Table& t, Component& c) {
   for (const Table& mt : t.table_array("mass")) {
     PointMass pm;
     pm.where = mt.location("at");
+    pm.path = mt.path();
     pm.at = mt.vec3("at");
     pm.m = mt.number("m", Range::non_negative());
     if (auto j = mt.optional_vec3("J")) {
@@ -112,6 +113,7 @@ void read_beam(const Table& t, Component& c) {
   for (const Table& rt : t.table_array("rigid")) {
     RigidLink link;
     link.where = rt.location();
+    link.path = rt.path();
     link.from = rt.vec3("from");
     link.to = rt.vec3("to");
     rt.finish();
@@ -126,6 +128,7 @@ std::vector<NamedPoint> read_points(const Table& root, const std::string& key) {
   for (const Table& pt : root.table_array(key)) {
     NamedPoint p;
     p.where = pt.location("at");
+    p.path = pt.path();
     p.name = pt.string("name");
     if (p.name.empty()) pt.fail("name", "expected a non-empty name");
     if (!names.insert(p.name).second) pt.fail("name", "the name \"" + p.name + "\" is used twice in [[" + key + "]]");
@@ -146,11 +149,10 @@ ReductionSettings read_reduction(const Table& t) {
   const auto fmax = t.optional_number("fmax", Range::positive());
   const auto modes = t.optional_integer("modes", Range::closed(1, 100000));
   if (fmax && modes) t.fail("modes", "give either fmax or modes, not both");
-  if (!fmax && !modes && r.method != ReductionMethod::kGuyan) {
-    t.fail("expected fmax (Hz) or modes (a count) in [reduction]");
-  }
+  // Whether a count is needed at all is checked after command-line overrides (check_reduction).
   r.fmax_hz = fmax.value_or(0.0);
   r.where = t.location(fmax ? "fmax" : "modes");
+  r.where_key = fmax ? "reduction.fmax" : modes ? "reduction.modes" : "reduction";
   r.modes = static_cast<int>(modes.value_or(0));
   r.orthonormalize = t.optional_boolean("orthonormalize").value_or(true);
   r.damping_ratio = t.number_or("damping_ratio", 0.0, Range{0.0, 1.0, false, true});
@@ -177,6 +179,7 @@ Component read(const input::Document& doc, const std::filesystem::path& file) {
   for (const Table& ft : root.table_array("fix")) {
     Support s;
     s.where = ft.location("at");
+    s.path = ft.path();
     s.at = ft.vec3("at");
     const std::string dofs = ft.string("dofs");
     try {

@@ -22,10 +22,12 @@ std::vector<int> locate(const BeamModel& model, const std::vector<NamedPoint>& p
     if (n < 0) {
       std::ostringstream at;
       at << "[" << p.at[0] << ", " << p.at[1] << ", " << p.at[2] << "]";
+      std::ostringstream tol;
+      tol << tolerance;
       throw Error("the " + what + " point \"" + p.name + "\" at " + at.str() +
                       " is not on the model: put it on a station or element node of the beam, or at the end "
-                      "of a [[beam.rigid]] link (tolerance " + std::to_string(tolerance) + " m)",
-                  p.where, "at");
+                      "of a [[beam.rigid]] link (tolerance " + tol.str() + " m)",
+                  p.where, p.path + ".at");
     }
     nodes.push_back(n);
   }
@@ -48,15 +50,30 @@ PointSet point_set(const BeamModel& model, const std::vector<NamedPoint>& points
 
 void apply_options(Component& component, const CondenseOptions& options) {
   ReductionSettings& r = component.reduction;
+  const SourceLocation command_line{"command line", 0, 0};
   if (options.fmax_hz) {
     r.fmax_hz = *options.fmax_hz;
     r.modes = 0;
+    r.where = command_line;
+    r.where_key = "--fmax";
   }
   if (options.modes) {
     r.modes = *options.modes;
     r.fmax_hz = 0.0;
+    r.where = command_line;
+    r.where_key = "--modes";
   }
   if (options.method) r.method = *options.method;
+  check_reduction(component);
+}
+
+void check_reduction(const Component& component) {
+  const ReductionSettings& r = component.reduction;
+  if (r.method != ReductionMethod::kGuyan && r.fmax_hz <= 0.0 && r.modes <= 0) {
+    throw Error("the " + to_string(r.method) + " reduction needs fmax (Hz) or modes (a count) in [reduction], "
+                "or --fmax / --modes on the command line",
+                r.where, "reduction");
+  }
 }
 
 int count_rigid_body_modes(const BeamModel& model) {

@@ -19,8 +19,11 @@ struct CondenseOptions {
   EigenBackend backend = EigenBackend::kSpectra;
 };
 
-/// Apply the overrides to the component's reduction settings.
+/// Apply the overrides to the component's reduction settings, then check_reduction().
 void apply_options(Component& component, const CondenseOptions& options);
+
+/// nvh::Error unless the settings ask for a count (fmax or modes) where the method needs one.
+void check_reduction(const Component& component);
 
 /// Build, reduce and describe the component. `timer` (optional) gets one lap per stage:
 /// assemble, reduce, invariants.

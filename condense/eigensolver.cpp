@@ -170,7 +170,7 @@ RawModes solve_spectra(ShiftInvertOperator& op, const SparseMatrix& M, int nev, 
       Spectra::SymGEigsShiftSolver<ShiftInvertOperator, MassOperator, Spectra::GEigsMode::ShiftInvert>;
   const int n = static_cast<int>(M.rows());
   MassOperator mass(M);
-  // A non-converged run is retried once with a larger Lanczos basis.
+  // A non-converged run is retried with a doubled Lanczos basis (up to n).
   for (int ncv = lanczos_size(nev, n);; ncv = std::min(n, 2 * ncv)) {
     Solver solver(op, mass, nev, ncv, op.shift());
     solver.init();
@@ -388,6 +388,19 @@ void check_input(const SparseMatrix& K, const SparseMatrix& M, const EigenReques
                   std::to_string(i) + " is " + str(k) + ")");
     }
   }
+  // Every 2 x 2 principal submatrix of a positive definite matrix is positive definite: a cheap O(nnz)
+  // necessary condition that catches a wrong sign or scale of a coupling mass term.
+  const Eigen::VectorXd diagonal = M.diagonal();
+  for (Eigen::Index j = 0; j < M.outerSize(); ++j) {
+    for (SparseMatrix::InnerIterator it(M, j); it; ++it) {
+      const Eigen::Index i = it.row();
+      if (i != j && !(it.value() * it.value() < diagonal[i] * diagonal[j])) {
+        throw Error("the mass matrix is not positive definite (M_ij^2 >= M_ii M_jj for the DOFs i = " +
+                    std::to_string(i) + ", j = " + std::to_string(j) + ": M_ij = " + str(it.value()) +
+                    ", M_ii = " + str(diagonal[i]) + ", M_jj = " + str(diagonal[j]) + ")");
+      }
+    }
+  }
 }
 
 /// Sorts the eigenpairs ascending and keeps the first `count`.
@@ -492,7 +505,9 @@ EigenResult solve_eigenproblem(const SparseMatrix& K_in, const SparseMatrix& M_i
 
   EigenResult result;
   RawModes raw;
-  double absolute_gap = 0.0;  // eigenvalues closer than this count as equal (rigid modes near 0)
+  // Eigenvalues closer than this count as equal (rigid modes near 0, whose computed eigenvalues are
+  // round-off of the order of eps lambda_max; ||K||_1 / max M_ii is of the order of lambda_max).
+  double absolute_gap = 1e-10 * norm1(K) / M.diagonal().maxCoeff();
   if (!dense) {
     const double sigma = request.shift < 0.0 ? request.shift : automatic_shift(K, M, request);
     ShiftInvertOperator op(K, M, sigma);
@@ -503,28 +518,37 @@ EigenResult solve_eigenproblem(const SparseMatrix& K_in, const SparseMatrix& M_i
     if (by_count) {
       raw = solve(request.modes);
     } else {
-      // Grow the number of modes until the highest one found lies above fmax (same factorization).
-      for (int nev = std::min(kInitialModes, n - 2);; nev = std::min(2 * nev, n - 2)) {
+      // Grow the number of modes until the highest one found lies above fmax (same factorization): at
+      // least double it, more if the count extrapolated for a beam-like (1-D) spectrum, where it grows
+      // like sqrt(lambda), is larger.
+      for (int nev = std::min(kInitialModes, n - 2);;) {
         raw = solve(nev);
-        if (raw.values.maxCoeff() > lambda_max) break;
+        const double highest = raw.values.maxCoeff();
+        if (highest > lambda_max) break;
         if (nev == n - 2) {
           dense = true;  // fmax lies above (nearly) all modes of the model
           break;
         }
+        double next = 2.0 * nev;
+        if (highest > 0.0) next = std::max(next, std::ceil(1.2 * nev * std::sqrt(lambda_max / highest)));
+        nev = static_cast<int>(std::min(next, n - 2.0));
       }
     }
     result.shift = sigma;
     result.matrix_operations = op.solves();
-    absolute_gap = 1e-8 * std::abs(sigma);
+    absolute_gap = std::max(absolute_gap, 1e-8 * std::abs(sigma));
   }
   if (dense) {
     if (request.backend != EigenBackend::kDense && n > kDenseFallbackLimit) {
-      throw Error("fmax = " + str(request.fmax_hz) + " Hz lies above nearly all modes of the model (" +
-                  std::to_string(n) + " degrees of freedom), too many for the dense eigensolver; lower fmax");
+      const std::string what = by_count
+                                   ? std::to_string(request.modes) + " modes requested"
+                                   : "fmax = " + str(request.fmax_hz) + " Hz lies above nearly all modes";
+      throw Error(what + " of a model with " + std::to_string(n) +
+                  " degrees of freedom: that needs the dense eigensolver, and the model is too large for it");
     }
     raw = solve_dense(K, M);
     result.shift = 0.0;
-    absolute_gap = 1e-10 * raw.values.cwiseAbs().maxCoeff();
+    absolute_gap = std::max(absolute_gap, 1e-10 * raw.values.cwiseAbs().maxCoeff());
   }
 
   // The lowest `modes`, or all with lambda <= (2 pi fmax)^2.

@@ -33,8 +33,11 @@ struct EigenRequest {
   /// or from the matrices' diagonal when only `modes` is given.
   double shift = 0.0;
   EigenBackend backend = EigenBackend::kSpectra;
-  double tolerance = 1e-10;      ///< convergence tolerance of the Lanczos iteration
-  double residual_limit = 1e-6;  ///< accept a mode if ||K x - lambda M x|| / (||K x|| + |lambda| ||M x||) <= limit
+  double tolerance = 1e-10;  ///< convergence tolerance of the Lanczos iteration
+  /// Accept a mode if ||K x - lambda M x|| / (||K x|| + |lambda| ||M x|| + sqrt(eps) ||K||_1 ||x||) <= limit
+  /// (the last term, the round-off floor of K x, keeps rigid modes - K x and lambda both round-off - from
+  /// failing the check).
+  double residual_limit = 1e-6;
 };
 
 struct EigenResult {

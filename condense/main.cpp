@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "common/error.hpp"
+#include "common/interrupt.hpp"
 #include "common/log.hpp"
 #include "common/provenance.hpp"
 #include "common/resources.hpp"
@@ -35,7 +36,8 @@ Example:
   condense testdata/crankshaft.toml -o crank_modal.h5 --method modal --fmax 3000
   h5dump -H crankshaft.h5
 
-Exit codes: 0 success; 1 bad input or failed run (message names file, line, key); 2 bad command line.)";
+Exit codes: 0 success; 1 bad input or failed run (message names file, line, key); 2 bad command line;
+3 interrupted (SIGINT/SIGTERM: the temporary output is removed, nothing is left half-written).)";
 
 std::string frequency_list(const Eigen::VectorXd& f, int max_count) {
   std::ostringstream out;
@@ -52,6 +54,7 @@ int main(int argc, char** argv) {
   using namespace nvh;
   using namespace nvh::condense;
 
+  install_interrupt_handler("condense");
   CLI::App app{kDescription, "condense"};
   app.get_formatter()->column_width(34);
   std::string component_file, output_file, method, eigensolver = "spectra";
@@ -59,8 +62,7 @@ int main(int argc, char** argv) {
   std::optional<int> modes;
   bool quiet = false, verbose = false;
   app.add_option("COMPONENT", component_file, "component file (.toml); see docs/component-format.md")
-      ->required()
-      ->check(CLI::ExistingFile);
+      ->required();
   app.add_option("-o,--output", output_file, "superelement file to write (.h5); written to a temporary and "
                                              "renamed when complete")
       ->required();
@@ -104,9 +106,19 @@ int main(int argc, char** argv) {
     options.backend = parse_eigen_backend(eigensolver);
     apply_options(component, options);
     timer.lap("read");
-    log.info("component \"" + component.name + "\": " + to_string(component.reduction.method) + " reduction" +
-             (component.reduction.modes > 0 ? ", " + std::to_string(component.reduction.modes) + " modes"
-                                            : ", fmax " + std::to_string(component.reduction.fmax_hz) + " Hz"));
+    {
+      const ReductionSettings& r = component.reduction;
+      std::ostringstream what;
+      what << "component \"" << component.name << "\": " << to_string(r.method) << " reduction";
+      if (r.method == ReductionMethod::kGuyan) {
+        what << " (interface DOF only)";
+      } else if (r.modes > 0) {
+        what << ", " << r.modes << " modes";
+      } else {
+        what << ", modes up to " << r.fmax_hz << " Hz";
+      }
+      log.info(what.str());
+    }
 
     const Superelement se = condense_component(component, options.backend, log, &timer);
     const Provenance provenance = make_provenance("condense", argc, argv, {component_file});

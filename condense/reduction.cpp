@@ -70,7 +70,7 @@ ReducedModel modal_reduction(const ReductionInput& in, const Logger& log) {
     throw Error("fmax = " + hz(s.fmax_hz) + " is below the first elastic mode (" +
                     hz(frequency_hz(one.eigenvalues(rigid))) +
                     "): no mode to keep; raise fmax or give modes = N",
-                s.where, "reduction.fmax");
+                s.where, s.where_key);
   }
   const int m = found - rigid;
   ReducedModel r;
@@ -124,6 +124,7 @@ ReducedModel craig_bampton(const ReductionInput& in, bool with_fixed_interface_m
   // Fixed-interface modes.
   Eigen::MatrixXd phi(ni, 0);
   Eigen::VectorXd fixed_hz;
+  double max_residual = 0.0;
   if (with_fixed_interface_modes && ni > 0) {
     const SparseMatrix Mii = submatrix(M, i_dofs, i_dofs);
     const EigenResult eig = solve_eigenproblem(Kii, Mii, request_for(s, 0, in.backend));
@@ -135,15 +136,17 @@ ReducedModel craig_bampton(const ReductionInput& in, bool with_fixed_interface_m
       throw Error("fmax = " + hz(s.fmax_hz) + " is below the first fixed-interface mode (" +
                       hz(frequency_hz(one.eigenvalues(0))) +
                       "): no mode to keep; raise fmax, give modes = N, or use method = \"guyan\"",
-                  s.where, "reduction.fmax");
+                  s.where, s.where_key);
     }
     phi = eig.vectors;
     fixed_hz = eig.eigenvalues.unaryExpr([](double l) { return frequency_hz(l); });
+    max_residual = eig.residuals.size() ? eig.residuals.maxCoeff() : 0.0;
   }
   const int nm = static_cast<int>(phi.cols());
 
   ReducedModel r;
   r.fixed_interface_hz = fixed_hz;
+  r.max_residual = max_residual;
   r.basis = Eigen::MatrixXd::Zero(n, nb + nm);
   for (int j = 0; j < nb; ++j) r.basis(b[j], j) = 1.0;
   for (int i = 0; i < ni; ++i) {

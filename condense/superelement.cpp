@@ -78,6 +78,8 @@ void write_superelement(const std::filesystem::path& path, const Superelement& s
   if (se.fixed_interface_hz.size() > 0) {
     modes.write("fixed_interface_hz", se.fixed_interface_hz);
     modes.set_attribute("units", "Hz", "fixed_interface_hz");
+    modes.set_attribute("description", "Craig-Bampton: eigenfrequencies of the model with all interface DOF "
+                                       "held, for the retained fixed-interface modes", "fixed_interface_hz");
   }
 
   h5::Group reduced = root.create_group("reduced");
@@ -85,9 +87,12 @@ void write_superelement(const std::filesystem::path& path, const Superelement& s
   reduced.write("stiffness", se.stiffness);
   reduced.write("damping", se.damping);
   reduced.write("coordinates", se.coordinates);
-  reduced.set_attribute("units", "kg (generalized: basis^T M basis)", "mass");
-  reduced.set_attribute("units", "N/m (generalized: basis^T K basis)", "stiffness");
-  reduced.set_attribute("units", "N s/m (generalized)", "damping");
+  // Generalized units: they follow the coordinates (see docs/hdf5-format.md).
+  reduced.set_attribute("units", "generalized: basis^T M basis (1 for mass-normalized modes; kg, kg m^2 for "
+                                 "interface translations, rotations)", "mass");
+  reduced.set_attribute("units", "generalized: basis^T K basis (1/s^2 for mass-normalized modes; N/m, N m/rad "
+                                 "for interface DOF)", "stiffness");
+  reduced.set_attribute("units", "generalized, as stiffness times s", "damping");
   reduced.set_attribute("damping_ratio", se.damping_ratio, "damping");
   reduced.set_attribute("description", "what each coordinate q_j is", "coordinates");
 
@@ -112,8 +117,10 @@ void write_superelement(const std::filesystem::path& path, const Superelement& s
   inv.set_attribute("description", "I_kl = int rho x_k x_l dV about the component origin", "second_moment");
   inv.write("translational_coupling", se.invariants.translational);
   inv.set_attribute("description", "S_bar = int rho S dV (3 x n)", "translational_coupling");
+  inv.set_attribute("units", "kg m per unit coordinate", "translational_coupling");
   inv.write("rotational_coupling", se.invariants.rotational);
   inv.set_attribute("description", "int rho x~ S dV about the component origin (3 x n)", "rotational_coupling");
+  inv.set_attribute("units", "kg m^2 per unit coordinate", "rotational_coupling");
   std::vector<double> position, quadratic;
   for (int kl = 0; kl < 9; ++kl) {
     for (int i = 0; i < n; ++i) position.push_back(se.invariants.position[kl](i));
@@ -127,6 +134,8 @@ void write_superelement(const std::filesystem::path& path, const Superelement& s
   inv.set_attribute("description", "I_tilde[k][l] = int rho x_k S_l dV (3, 3, n)", "position_coupling");
   inv.write("quadratic", quadratic, {3, 3, hn, hn});
   inv.set_attribute("description", "S[k][l] = int rho S_k^T S_l dV (3, 3, n, n)", "quadratic");
+  inv.set_attribute("units", "kg m^2 per unit coordinate", "position_coupling");
+  inv.set_attribute("units", "kg m^2 per unit coordinate squared", "quadratic");
 
   h5::Group model = root.create_group("model");
   model.set_attribute("nodes", static_cast<std::int64_t>(se.node_count));
@@ -178,7 +187,14 @@ Superelement read_superelement(const std::filesystem::path& path) {
   se.invariants.rotational = inv.read_matrix("rotational_coupling", 3, hn);
   std::vector<hsize_t> dims;
   const std::vector<double> position = inv.read_array("position_coupling", dims);
+  if (dims != std::vector<hsize_t>{3, 3, hn}) {
+    throw Error(where + ":/invariants/position_coupling: expected shape (3, 3, " + std::to_string(n) + ")");
+  }
   const std::vector<double> quadratic = inv.read_array("quadratic", dims);
+  if (dims != std::vector<hsize_t>{3, 3, hn, hn}) {
+    throw Error(where + ":/invariants/quadratic: expected shape (3, 3, " + std::to_string(n) + ", " +
+                std::to_string(n) + ")");
+  }
   for (int kl = 0; kl < 9; ++kl) {
     se.invariants.position.push_back(Eigen::Map<const Eigen::VectorXd>(position.data() + kl * n, n));
     Eigen::MatrixXd s(n, n);

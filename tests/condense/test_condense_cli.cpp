@@ -209,4 +209,34 @@ TEST_F(CondenseCli, CommandLineOverridesTheFile) {
   EXPECT_EQ(se.size(), 3);
 }
 
+TEST_F(CondenseCli, OverridingGuyanWithoutACountIsAClearError) {
+  std::string guyan = replace(kGood, "method = \"craig-bampton\"", "method = \"guyan\"");
+  guyan = replace(guyan, "fmax = 2000.0\n", "");
+  ASSERT_EQ(run_condense(guyan).exit_code, 0);
+  fs::remove(output());
+  const CliRun run = run_condense(guyan, "--method modal");
+  EXPECT_EQ(run.exit_code, 1) << run.output;
+  EXPECT_NE(run.output.find("needs fmax (Hz) or modes"), std::string::npos) << run.output;
+  EXPECT_TRUE(directory_holds_only_the_input());
+}
+
+TEST_F(CondenseCli, InterruptedRunLeavesNoOutputAndExitsWithThree) {
+  // A model big enough to take a few seconds; SIGTERM arrives while it works.
+  std::string big = replace(kGood, "elements_per_segment = 10", "elements_per_segment = 6000");
+  big = replace(big, "fmax = 2000.0", "modes = 300");
+  const fs::path input = dir_ / "part.toml";
+  std::ofstream(input) << big;
+  const std::string command = "timeout --preserve-status -s TERM 1 " + std::string(NVH_CONDENSE_EXE) + " " + input.string() +
+                              " -o " + output().string() + " --method modal 2>&1";
+  FILE* pipe = popen(command.c_str(), "r");
+  std::string text;
+  std::array<char, 512> buffer;
+  while (fgets(buffer.data(), buffer.size(), pipe)) text += buffer.data();
+  const int status = pclose(pipe);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 3) << text;
+  EXPECT_NE(text.find("terminated (SIGTERM)"), std::string::npos) << text;
+  EXPECT_TRUE(directory_holds_only_the_input());
+}
+
 }  // namespace

@@ -32,9 +32,9 @@ Component crank_throw() {
   BeamSection web = rectangle(0.07, 0.02, 0.833);  // 70 mm wide (local y), 20 mm thick (local z)
   web.y_axis = Vec3{0, 0, 1};                      // wide direction along global z
   c.beam.segment_sections = {circle(0.055, 0.9), web, circle(0.048, 0.9), web, circle(0.055, 0.9)};
-  c.beam.rigid_links = {RigidLink{{0.06, 0, 0}, {0.06, -0.04, 0}, {}}};
-  c.beam.masses = {PointMass{{0.06, -0.04, 0}, 0.8, {1e-3, 2e-3, 3e-3}, {}},
-                   PointMass{{0.18, 0, 0}, 6.0, {0.08, 0.04, 0.05}, {}}};
+  c.beam.rigid_links = {RigidLink{{0.06, 0, 0}, {0.06, -0.04, 0}, {}, {}}};
+  c.beam.masses = {PointMass{{0.06, -0.04, 0}, 0.8, {1e-3, 2e-3, 3e-3}, {}, {}},
+                   PointMass{{0.18, 0, 0}, 6.0, {0.08, 0.04, 0.05}, {}, {}}};
   c.interfaces = {point("main1", {0, 0, 0}), point("pin", {0.09, r, 0}), point("main2", {0.18, 0, 0})};
   c.observers = {point("flywheel", {0.18, 0, 0})};
   c.beam.elements_per_segment = 6;

@@ -1,0 +1,69 @@
+#include "common/interrupt.hpp"
+
+#include <unistd.h>
+
+#include <atomic>
+#include <csignal>
+#include <cstring>
+
+#include "common/error.hpp"
+
+namespace nvh {
+namespace {
+
+constexpr int kSlots = 32;
+constexpr std::size_t kPathLength = 4096;
+
+struct Slot {
+  std::atomic<bool> used{false};
+  char path[kPathLength];
+};
+Slot g_slots[kSlots];
+char g_tool[64] = "nvh";
+
+// Async-signal-safe: unlink, write and _exit only.
+extern "C" void on_interrupt(int signal_number) {
+  for (Slot& slot : g_slots) {
+    if (slot.used.load()) ::unlink(slot.path);
+  }
+  const char* what = signal_number == SIGINT ? ": interrupted (SIGINT)" : ": terminated (SIGTERM)";
+  const char* tail = "; unfinished outputs removed\n";
+  [[maybe_unused]] ssize_t n = ::write(STDERR_FILENO, g_tool, std::strlen(g_tool));
+  n = ::write(STDERR_FILENO, what, std::strlen(what));
+  n = ::write(STDERR_FILENO, tail, std::strlen(tail));
+  ::_exit(static_cast<int>(ExitCode::kInterrupted));
+}
+
+}  // namespace
+
+void install_interrupt_handler(const char* tool) {
+  std::strncpy(g_tool, tool, sizeof g_tool - 1);
+  struct sigaction action {};
+  action.sa_handler = on_interrupt;
+  sigemptyset(&action.sa_mask);
+  sigaction(SIGINT, &action, nullptr);
+  sigaction(SIGTERM, &action, nullptr);
+}
+
+void register_temporary(const std::filesystem::path& path) {
+  const std::string text = path.string();
+  if (text.size() >= kPathLength) return;  // not removable on a signal; the File destructor still removes it
+  for (Slot& slot : g_slots) {
+    if (slot.used.load()) continue;
+    std::memcpy(slot.path, text.c_str(), text.size() + 1);
+    slot.used.store(true);
+    return;
+  }
+}
+
+void unregister_temporary(const std::filesystem::path& path) {
+  const std::string text = path.string();
+  for (Slot& slot : g_slots) {
+    if (slot.used.load() && text == slot.path) {
+      slot.used.store(false);
+      return;
+    }
+  }
+}
+
+}  // namespace nvh

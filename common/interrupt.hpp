@@ -1,0 +1,19 @@
+#pragma once
+// Clean interruption: SIGINT and SIGTERM (Ctrl-C, Slurm's scancel, a killed make) remove the temporary
+// outputs still being written, say so, and exit with code 3 (ExitCode::kInterrupted). Completed outputs
+// were renamed into place and stay.
+//
+// A signal handler can only reach process-wide state, so this is the one deliberate global of the
+// project: a fixed table of temporary paths, touched only through these functions.
+#include <filesystem>
+
+namespace nvh {
+
+/// Install the handlers once per process (the tools' main() calls it first).
+void install_interrupt_handler(const char* tool);
+
+/// Temporary files to remove on interruption (h5::File registers its temporaries).
+void register_temporary(const std::filesystem::path& path);
+void unregister_temporary(const std::filesystem::path& path);
+
+}  // namespace nvh
