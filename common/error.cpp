@@ -1,20 +1,22 @@
 #include "common/error.hpp"
 
+#include <sstream>
 #include <utility>
 
 namespace nvh {
 namespace {
 
 std::string format(const std::string& message, const SourceLocation& where, const std::string& key) {
-  std::string out;
+  std::ostringstream out;
   if (!where.file.empty()) {
-    out += where.file;
-    if (where.line > 0) out += ":" + std::to_string(where.line);
-    if (where.column > 0) out += ":" + std::to_string(where.column);
-    out += ": ";
+    out << where.file;
+    if (where.line > 0) out << ':' << where.line;
+    if (where.column > 0) out << ':' << where.column;
+    out << ": ";
   }
-  if (!key.empty()) out += "'" + key + "': ";
-  return out + message;
+  if (!key.empty()) out << '\'' << key << "': ";
+  out << message;
+  return out.str();
 }
 
 }  // namespace
