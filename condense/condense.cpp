@@ -139,6 +139,9 @@ Superelement condense_component(const Component& c, EigenBackend backend, const 
   in.boundary_dofs = dofs;
   in.boundary_names = names;
 
+  log.info("reduce: " + to_string(c.reduction.method) + " on " + std::to_string(model.free_dofs()) + " DOF (" +
+           std::to_string(in.boundary_dofs.size()) + " interface DOF, " + std::to_string(in.rigid_body_modes) +
+           " rigid-body modes, eigen-solver " + to_string(backend) + ")");
   const ReducedModel r = reduce(in, log);
   if (timer) timer->lap("reduce");
 
