@@ -39,7 +39,11 @@ ModalInvariants modal_invariants(const BeamModel& model, const Eigen::MatrixXd& 
   for (int k = 0; k < 3; ++k) {
     for (int l = 0; l < 3; ++l) {
       inv.position[3 * k + l] = shapes.transpose() * model.position_moment_all.col(3 * k + l);
+    }
+    // S_kl = S_lk^T (the component mass matrices are pairwise transposes): 6 products instead of 9.
+    for (int l = k; l < 3; ++l) {
       inv.quadratic[3 * k + l] = shapes.transpose() * (model.component_mass_all[k][l] * shapes);
+      if (l != k) inv.quadratic[3 * l + k] = inv.quadratic[3 * k + l].transpose();
     }
   }
   return inv;
