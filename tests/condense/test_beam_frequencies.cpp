@@ -111,6 +111,34 @@ TEST_F(SlenderBeam, FreeFreeBendingWithinPointThreePercentOfEulerBernoulli) {
   }
 }
 
+TEST_F(SlenderBeam, LanczosBackendsOnAFineMeshByCountAndByFmax) {
+  // 64 and 400 elements (384 and 2400 free DOF: above the dense-solver size, so Spectra and ARPACK
+  // really run), classical Euler-Bernoulli mass. Regression: with a mode count only, the automatic
+  // shift once lay 4e4 times above lambda_1 and the first mode failed its residual check.
+  BeamSection eb = section;
+  eb.rotary_inertia = false;
+  const double beta_l[4] = {1.8751040687, 4.6940911330, 7.8547574382, 10.9955407349};
+  for (int elements : {64, 400}) {
+    Component c = straight_beam(L, eb, elements);
+    c.supports = {fixed({0, 0, 0})};
+    for (EigenBackend backend : {EigenBackend::kSpectra, EigenBackend::kArpack}) {
+      for (bool by_count : {true, false}) {
+        Component cc = c;
+        cc.reduction.modes = by_count ? 8 : 0;
+        cc.reduction.fmax_hz = by_count ? 0.0 : 300.0;
+        const Superelement se = condense_component(cc, backend, log);
+        ASSERT_EQ(se.frequency_hz.size(), 8) << elements << " " << to_string(backend);
+        for (int n = 0; n < 4; ++n) {
+          const double ref = euler_bernoulli_hz(beta_l[n], L, eb, steel);
+          // 64 cubic elements: discretization error below 1e-6 (it falls as h^4, docs/verification.md).
+          EXPECT_NEAR(se.frequency_hz(2 * n) / ref, 1.0, 1e-5) << elements << " " << to_string(backend);
+          EXPECT_NEAR(se.frequency_hz(2 * n + 1) / ref, 1.0, 1e-5) << elements << " " << to_string(backend);
+        }
+      }
+    }
+  }
+}
+
 TEST_F(SlenderBeam, AxialAndTorsionalModesMatchTheRodFormulas) {
   // Linear axial/torsion interpolation with consistent mass over-estimates by about (k h)^2 / 24:
   // 100 elements keep the 3rd mode within 0.03 %.
