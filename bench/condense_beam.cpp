@@ -158,7 +158,7 @@ Component bench_component(int elements_per_segment, int modes) {
     beam.segment_sections.push_back(web());
   }
   beam.masses.push_back(point_mass({0.0, 0.0, 0.0}, 1.5, {0.006, 0.0035, 0.0035}));  // pulley
-  beam.masses.push_back(point_mass(beam.points.back(), 8.0, {0.10, 0.052, 0.052}));   // flywheel
+  beam.masses.push_back(point_mass(beam.points.back(), 8.0, {0.10, 0.052, 0.052}));  // flywheel
   c.observers.push_back(named_point("pulley", {0.0, 0.0, 0.0}));
   c.reduction.method = ReductionMethod::kModal;
   c.reduction.modes = modes;
@@ -175,7 +175,9 @@ bool reset_peak_memory() {
   return static_cast<bool>(clear);
 }
 
-double mib(long long bytes) { return static_cast<double>(bytes) / (1024.0 * 1024.0); }
+double mib(long long bytes) {
+  return static_cast<double>(bytes) / (1024.0 * 1024.0);
+}
 
 void print_row(const std::string& name, double seconds, long long peak) {
   std::printf("  %-36s %10.3f %14.1f\n", name.c_str(), seconds, mib(peak));
@@ -201,12 +203,12 @@ void export_problem(const std::filesystem::path& dir, const SparseMatrix& K, con
     throw Error("cannot write the Matrix Market files in " + dir.string());
   }
   std::ofstream json(dir / "bench.json");
-  json << "{\n  \"elements\": " << elements << ",\n  \"dof\": " << K.rows() << ",\n  \"k\": "
-       << eig.eigenvalues.size() << ",\n  \"rigid_body_modes\": " << kRigidModes
+  json << "{\n  \"elements\": " << elements << ",\n  \"dof\": " << K.rows()
+       << ",\n  \"k\": " << eig.eigenvalues.size() << ",\n  \"rigid_body_modes\": " << kRigidModes
        << ",\n  \"sigma\": " << json_number(eig.shift) << ",\n  \"shift\": " << json_number(-eig.shift)
        << ",\n  \"backend\": \"" << to_string(o.backend) << "\",\n  \"tolerance\": 1e-10"
-       << ",\n  \"matrix_operations\": " << eig.matrix_operations << ",\n  \"seconds\": " << json_number(seconds)
-       << ",\n  \"frequencies_hz\": [";
+       << ",\n  \"matrix_operations\": " << eig.matrix_operations
+       << ",\n  \"seconds\": " << json_number(seconds) << ",\n  \"frequencies_hz\": [";
   for (Eigen::Index i = 0; i < eig.eigenvalues.size(); ++i) {
     json << (i ? ", " : "") << json_number(frequency_hz(eig.eigenvalues(i)));
   }
@@ -239,12 +241,14 @@ int main(int argc, char** argv) {
       const EigenResult eig = solve_eigenproblem(K, M, request);
       timer.lap("eigen-solve (" + std::to_string(request.modes) + " modes)");
       const double solve_seconds = timer.stages().back().seconds;
-      std::printf("bench_condense_beam: %d elements (%d segments x %d), %zu nodes, %d free DOF, %d modes, %s\n",
-                  elements, kSegments, per, model.nodes.size(), model.free_dofs(), o.modes,
-                  to_string(o.backend).c_str());
-      std::printf("  K: %lld non-zeros, M: %lld non-zeros; shift sigma = %.6g rad^2/s^2 (%.1f Hz), %d solves\n",
-                  static_cast<long long>(K.nonZeros()), static_cast<long long>(M.nonZeros()), eig.shift,
-                  std::sqrt(-eig.shift) / (2.0 * std::numbers::pi), eig.matrix_operations);
+      std::printf(
+          "bench_condense_beam: %d elements (%d segments x %d), %zu nodes, %d free DOF, %d modes, %s\n",
+          elements, kSegments, per, model.nodes.size(), model.free_dofs(), o.modes,
+          to_string(o.backend).c_str());
+      std::printf(
+          "  K: %lld non-zeros, M: %lld non-zeros; shift sigma = %.6g rad^2/s^2 (%.1f Hz), %d solves\n",
+          static_cast<long long>(K.nonZeros()), static_cast<long long>(M.nonZeros()), eig.shift,
+          std::sqrt(-eig.shift) / (2.0 * std::numbers::pi), eig.matrix_operations);
       const Eigen::Index n_found = eig.eigenvalues.size();
       std::printf("  frequencies: rigid max %.3g Hz; elastic %.6g .. %.6g Hz; max residual %.2e\n",
                   frequency_hz(eig.eigenvalues(kRigidModes - 1)), frequency_hz(eig.eigenvalues(kRigidModes)),
@@ -278,15 +282,17 @@ int main(int argc, char** argv) {
     print_stages("", timer);
     print_stages("modal: ", modal_timer);
     print_stages("craig-bampton: ", cb_timer);
-    std::printf("  %-36s %10.3f\n", "total", timer.total_seconds() + modal_timer.total_seconds() +
-                                                 cb_timer.total_seconds());
-    std::printf("  (peak RSS %s)\n", reset ? "since the start of each block: model+solve, modal, craig-bampton"
-                                           : "of the whole process so far: /proc/self/clear_refs not writable");
+    std::printf("  %-36s %10.3f\n", "total",
+                timer.total_seconds() + modal_timer.total_seconds() + cb_timer.total_seconds());
+    std::printf("  (peak RSS %s)\n", reset
+                                         ? "since the start of each block: model+solve, modal, craig-bampton"
+                                         : "of the whole process so far: /proc/self/clear_refs not writable");
     std::printf("\n  modal: %d coordinates, %.6g .. %.6g Hz\n", modal.size(), modal.frequency_hz(0),
                 modal.frequency_hz(modal.frequency_hz.size() - 1));
-    std::printf("  craig-bampton: %d coordinates (%zu interfaces, %lld fixed-interface modes), %.6g .. %.6g Hz\n",
-                cb.size(), cb.interfaces.names.size(), static_cast<long long>(cb.fixed_interface_hz.size()),
-                cb.frequency_hz(0), cb.frequency_hz(cb.frequency_hz.size() - 1));
+    std::printf(
+        "  craig-bampton: %d coordinates (%zu interfaces, %lld fixed-interface modes), %.6g .. %.6g Hz\n",
+        cb.size(), cb.interfaces.names.size(), static_cast<long long>(cb.fixed_interface_hz.size()),
+        cb.frequency_hz(0), cb.frequency_hz(cb.frequency_hz.size() - 1));
     // Agreement of the pipeline's modal frequencies with the bare solve (same call, same numbers).
     double worst = 0.0;
     for (Eigen::Index i = 0; i < modal.frequency_hz.size(); ++i) {

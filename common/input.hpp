@@ -89,7 +89,8 @@ class Table {
   std::optional<std::string> optional_string(std::string_view key) const;
   /// A string that must be one of `choices` (error lists them, with a did-you-mean).
   std::string choice(std::string_view key, const std::vector<std::string>& choices) const;
-  std::optional<std::string> optional_choice(std::string_view key, const std::vector<std::string>& choices) const;
+  std::optional<std::string> optional_choice(std::string_view key,
+                                             const std::vector<std::string>& choices) const;
 
   // --- arrays ---
   std::vector<double> numbers(std::string_view key, const Range& range = {}) const;

@@ -12,7 +12,9 @@ namespace {
 
 using Triplets = std::vector<Eigen::Triplet<double>>;
 
-Eigen::Vector3d as_vector(const Vec3& v) { return {v[0], v[1], v[2]}; }
+Eigen::Vector3d as_vector(const Vec3& v) {
+  return {v[0], v[1], v[2]};
+}
 
 std::string format_point(const Vec3& p) {
   std::ostringstream s;
@@ -70,7 +72,9 @@ SparseMatrix BeamModel::stiffness() const {
   return SparseMatrix(transform.transpose() * stiffness_all * transform);
 }
 
-SparseMatrix BeamModel::mass() const { return SparseMatrix(transform.transpose() * mass_all * transform); }
+SparseMatrix BeamModel::mass() const {
+  return SparseMatrix(transform.transpose() * mass_all * transform);
+}
 
 Eigen::MatrixXd BeamModel::rigid_body_field() const {
   Eigen::MatrixXd r = Eigen::MatrixXd::Zero(all_dofs(), 6);
@@ -241,7 +245,8 @@ BeamModel build_beam_model(const Component& c) {
   for (const Support& sup : c.supports) {
     const int n = model.find_node(sup.at, tol);
     if (n < 0) {
-      throw Error("the support at " + format_point(sup.at) + " is not on the model", sup.where, sup.path + ".at");
+      throw Error("the support at " + format_point(sup.at) + " is not on the model", sup.where,
+                  sup.path + ".at");
     }
     if (model.master_of[n] != n) {
       throw Error("the support at " + format_point(sup.at) +

@@ -43,10 +43,10 @@ struct BeamSection {
 
 struct PointMass {
   Vec3 at{};
-  double m = 0.0;     ///< kg
-  Vec3 J{};           ///< principal moments of inertia about the point, in component axes, kg m^2
+  double m = 0.0;  ///< kg
+  Vec3 J{};        ///< principal moments of inertia about the point, in component axes, kg m^2
   SourceLocation where;
-  std::string path;   ///< key path of the entry, e.g. "beam.mass[2]"
+  std::string path;  ///< key path of the entry, e.g. "beam.mass[2]"
 };
 
 /// A rigid offset from a station of the beam (master) to a point (slave node with its own 6 DOF tied).
@@ -80,8 +80,8 @@ struct ReductionSettings {
   double fmax_hz = 0.0;  ///< keep modes up to fmax (> 0) ...
   int modes = 0;         ///< ... or this many modes (> 0); exactly one of the two is set
   bool orthonormalize = true;
-  double damping_ratio = 0.0;  ///< modal damping ratio zeta of the retained modes
-  SourceLocation where;        ///< of fmax or modes (or of the table), for messages
+  double damping_ratio = 0.0;                ///< modal damping ratio zeta of the retained modes
+  SourceLocation where;                      ///< of fmax or modes (or of the table), for messages
   std::string where_key = "reduction.fmax";  ///< the key (or command-line option) that set the count
 };
 

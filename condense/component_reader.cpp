@@ -89,9 +89,12 @@ void read_beam(const Table& t, Component& c) {
   }
   for (int s = 0; s < segments; ++s) {
     if (!covered_by[s]) {
-      t.fail("section", segment_text(beam.points, s) + " has no section: add a [[beam.section]] with "
-                        "segments = [" + std::to_string(s + 1) + ", " + std::to_string(s + 1) + "] or a range "
-                        "that covers it");
+      t.fail("section", segment_text(beam.points, s) +
+                            " has no section: add a [[beam.section]] with "
+                            "segments = [" +
+                            std::to_string(s + 1) + ", " + std::to_string(s + 1) +
+                            "] or a range "
+                            "that covers it");
     }
   }
 
@@ -131,7 +134,8 @@ std::vector<NamedPoint> read_points(const Table& root, const std::string& key) {
     p.path = pt.path();
     p.name = pt.string("name");
     if (p.name.empty()) pt.fail("name", "expected a non-empty name");
-    if (!names.insert(p.name).second) pt.fail("name", "the name \"" + p.name + "\" is used twice in [[" + key + "]]");
+    if (!names.insert(p.name).second)
+      pt.fail("name", "the name \"" + p.name + "\" is used twice in [[" + key + "]]");
     p.at = pt.vec3("at");
     pt.finish();
     points.push_back(p);
@@ -143,7 +147,7 @@ ReductionSettings read_reduction(const Table& t) {
   ReductionSettings r;
   r.where = t.location();
   const std::string method = t.choice("method", {"modal", "craig-bampton", "guyan"});
-  r.method = method == "modal" ? ReductionMethod::kModal
+  r.method = method == "modal"   ? ReductionMethod::kModal
              : method == "guyan" ? ReductionMethod::kGuyan
                                  : ReductionMethod::kCraigBampton;
   const auto fmax = t.optional_number("fmax", Range::positive());
@@ -170,7 +174,8 @@ Component read(const input::Document& doc, const std::filesystem::path& file) {
   comp.finish();
 
   const Table materials = root.table("material");
-  for (const std::string& name : materials.table_keys()) c.materials[name] = read_material(name, materials.table(name));
+  for (const std::string& name : materials.table_keys())
+    c.materials[name] = read_material(name, materials.table(name));
   if (c.materials.empty()) materials.fail("expected at least one [material.NAME] table");
   materials.finish();
 

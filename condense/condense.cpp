@@ -26,7 +26,8 @@ std::vector<int> locate(const BeamModel& model, const std::vector<NamedPoint>& p
       tol << tolerance;
       throw Error("the " + what + " point \"" + p.name + "\" at " + at.str() +
                       " is not on the model: put it on a station or element node of the beam, or at the end "
-                      "of a [[beam.rigid]] link (tolerance " + tol.str() + " m)",
+                      "of a [[beam.rigid]] link (tolerance " +
+                      tol.str() + " m)",
                   p.where, p.path + ".at");
     }
     nodes.push_back(n);
@@ -34,8 +35,8 @@ std::vector<int> locate(const BeamModel& model, const std::vector<NamedPoint>& p
   return nodes;
 }
 
-PointSet point_set(const BeamModel& model, const std::vector<NamedPoint>& points, const std::vector<int>& nodes,
-                   const Eigen::MatrixXd& shapes) {
+PointSet point_set(const BeamModel& model, const std::vector<NamedPoint>& points,
+                   const std::vector<int>& nodes, const Eigen::MatrixXd& shapes) {
   PointSet set;
   set.position.resize(static_cast<Eigen::Index>(points.size()), 3);
   for (std::size_t i = 0; i < points.size(); ++i) {
@@ -70,8 +71,9 @@ void apply_options(Component& component, const CondenseOptions& options) {
 void check_reduction(const Component& component) {
   const ReductionSettings& r = component.reduction;
   if (r.method != ReductionMethod::kGuyan && r.fmax_hz <= 0.0 && r.modes <= 0) {
-    throw Error("the " + to_string(r.method) + " reduction needs fmax (Hz) or modes (a count) in [reduction], "
-                "or --fmax / --modes on the command line",
+    throw Error("the " + to_string(r.method) +
+                    " reduction needs fmax (Hz) or modes (a count) in [reduction], "
+                    "or --fmax / --modes on the command line",
                 r.where, "reduction");
   }
 }
@@ -89,7 +91,8 @@ int count_rigid_body_modes(const BeamModel& model) {
   return 6 - static_cast<int>(svd.rank());
 }
 
-Superelement condense_component(const Component& c, EigenBackend backend, const Logger& log, StageTimer* timer) {
+Superelement condense_component(const Component& c, EigenBackend backend, const Logger& log,
+                                StageTimer* timer) {
   const BeamModel model = build_beam_model(c);
   const std::vector<int> interface_nodes = locate(model, c.interfaces, c.point_tolerance, "interface");
   const std::vector<int> observer_nodes = locate(model, c.observers, c.point_tolerance, "observation");
@@ -129,7 +132,8 @@ Superelement condense_component(const Component& c, EigenBackend backend, const 
   // Ascending boundary order keeps the names aligned with the basis columns.
   std::vector<std::size_t> order(in.boundary_dofs.size());
   for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
-  std::sort(order.begin(), order.end(), [&](auto a, auto b) { return in.boundary_dofs[a] < in.boundary_dofs[b]; });
+  std::sort(order.begin(), order.end(),
+            [&](auto a, auto b) { return in.boundary_dofs[a] < in.boundary_dofs[b]; });
   std::vector<int> dofs;
   std::vector<std::string> names;
   for (std::size_t i : order) {
@@ -139,9 +143,10 @@ Superelement condense_component(const Component& c, EigenBackend backend, const 
   in.boundary_dofs = dofs;
   in.boundary_names = names;
 
-  log.info("reduce: " + to_string(c.reduction.method) + " on " + std::to_string(model.free_dofs()) + " DOF (" +
-           std::to_string(in.boundary_dofs.size()) + " interface DOF, " + std::to_string(in.rigid_body_modes) +
-           " rigid-body modes, eigen-solver " + to_string(backend) + ")");
+  log.info("reduce: " + to_string(c.reduction.method) + " on " + std::to_string(model.free_dofs()) +
+           " DOF (" + std::to_string(in.boundary_dofs.size()) + " interface DOF, " +
+           std::to_string(in.rigid_body_modes) + " rigid-body modes, eigen-solver " + to_string(backend) +
+           ")");
   const ReducedModel r = reduce(in, log);
   if (timer) timer->lap("reduce");
 

@@ -41,11 +41,12 @@ struct EigenRequest {
 };
 
 struct EigenResult {
-  Eigen::VectorXd eigenvalues;  ///< lambda = omega^2, ascending (tiny negatives of rigid modes kept as computed)
-  Eigen::MatrixXd vectors;      ///< columns M-orthonormal: X^T M X = I
-  Eigen::VectorXd residuals;    ///< relative residual of each mode (see residual_limit)
-  double shift = 0.0;           ///< the shift used (0 for kDense)
-  int matrix_operations = 0;    ///< number of solves with the factorization (cost measure)
+  Eigen::VectorXd
+      eigenvalues;          ///< lambda = omega^2, ascending (tiny negatives of rigid modes kept as computed)
+  Eigen::MatrixXd vectors;  ///< columns M-orthonormal: X^T M X = I
+  Eigen::VectorXd residuals;  ///< relative residual of each mode (see residual_limit)
+  double shift = 0.0;         ///< the shift used (0 for kDense)
+  int matrix_operations = 0;  ///< number of solves with the factorization (cost measure)
 };
 
 /// Lowest eigenpairs of K x = lambda M x. Throws nvh::Error if the factorization fails (K - sigma M not

@@ -22,11 +22,11 @@
 namespace nvh::condense {
 
 struct RigidBodyInertia {
-  double mass = 0.0;                ///< kg
-  Eigen::Vector3d center_of_mass;   ///< m, component axes
-  Eigen::Matrix3d inertia;          ///< about the centre of mass, component axes, kg m^2
-  Eigen::Matrix3d inertia_origin;   ///< about the component origin, kg m^2
-  Eigen::Matrix3d second_moment;    ///< I_kl = int rho x_k x_l dV about the origin, kg m^2
+  double mass = 0.0;               ///< kg
+  Eigen::Vector3d center_of_mass;  ///< m, component axes
+  Eigen::Matrix3d inertia;         ///< about the centre of mass, component axes, kg m^2
+  Eigen::Matrix3d inertia_origin;  ///< about the component origin, kg m^2
+  Eigen::Matrix3d second_moment;   ///< I_kl = int rho x_k x_l dV about the origin, kg m^2
 };
 
 struct ModalInvariants {

@@ -16,7 +16,8 @@
 
 namespace {
 
-constexpr const char* kDescription = R"(condense - reduce a component to a modal superelement (step 1 of 3: condense -> solve -> postproc)
+constexpr const char* kDescription =
+    R"(condense - reduce a component to a modal superelement (step 1 of 3: condense -> solve -> postproc)
 
 Reads a component file (TOML: materials, a beam of stations and sections, point masses, rigid links,
 supports, interface and observation points, and a [reduction] table), builds its finite-element model
@@ -66,8 +67,9 @@ int main(int argc, char** argv) {
   bool quiet = false, verbose = false;
   app.add_option("COMPONENT", component_file, "component file (.toml); see docs/component-format.md")
       ->required();
-  app.add_option("-o,--output", output_file, "superelement file to write (.h5); written to a temporary and "
-                                             "renamed when complete")
+  app.add_option("-o,--output", output_file,
+                 "superelement file to write (.h5); written to a temporary and "
+                 "renamed when complete")
       ->required();
   app.add_option("--fmax", fmax, "keep modes up to this frequency, Hz (overrides [reduction] fmax/modes)")
       ->check(CLI::PositiveNumber);
@@ -80,7 +82,8 @@ int main(int argc, char** argv) {
                  "dense (small models)")
       ->check(CLI::IsMember({"spectra", "arpack", "dense"}));
   CLI::Option* quiet_flag = app.add_flag("-q,--quiet", quiet, "print errors only");
-  app.add_flag("-v,--verbose", verbose, "print more detail (stage timings, all frequencies)")->excludes(quiet_flag);
+  app.add_flag("-v,--verbose", verbose, "print more detail (stage timings, all frequencies)")
+      ->excludes(quiet_flag);
   app.set_version_flag("--version", std::string("condense ") + kVersion);
   try {
     app.parse(argc, argv);
@@ -94,7 +97,9 @@ int main(int argc, char** argv) {
   }
 
   const Logger log(std::cerr, "condense",
-                   quiet ? Verbosity::kQuiet : verbose ? Verbosity::kVerbose : Verbosity::kNormal);
+                   quiet     ? Verbosity::kQuiet
+                   : verbose ? Verbosity::kVerbose
+                             : Verbosity::kNormal);
   try {
     StageTimer timer;
     Component component = read_component(component_file);
@@ -102,7 +107,7 @@ int main(int argc, char** argv) {
     options.fmax_hz = fmax;
     options.modes = modes;
     if (!method.empty()) {
-      options.method = method == "modal" ? ReductionMethod::kModal
+      options.method = method == "modal"   ? ReductionMethod::kModal
                        : method == "guyan" ? ReductionMethod::kGuyan
                                            : ReductionMethod::kCraigBampton;
     }
@@ -134,8 +139,8 @@ int main(int argc, char** argv) {
             << (se.orthonormalized ? ", orthonormalized" : "") << "), " << se.interfaces.names.size()
             << " interface and " << se.observers.names.size() << " observation points\n";
     summary << "  frequencies [Hz]: " << frequency_list(se.frequency_hz, verbose ? 1000 : 8) << "\n";
-    summary << "  mass " << se.inertia.mass << " kg, centre of mass [" << se.inertia.center_of_mass.transpose()
-            << "] m";
+    summary << "  mass " << se.inertia.mass << " kg, centre of mass ["
+            << se.inertia.center_of_mass.transpose() << "] m";
     log.info(summary.str());
     log.detail("stages:\n" + timer.table());
     return static_cast<int>(ExitCode::kSuccess);

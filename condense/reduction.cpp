@@ -95,8 +95,9 @@ ReducedModel craig_bampton(const ReductionInput& in, bool with_fixed_interface_m
   const SparseMatrix& M = *in.mass;
   const int n = static_cast<int>(K.rows());
   if (in.boundary_dofs.empty()) {
-    throw Error(to_string(s.method) + " reduction needs at least one [[interface]] point (its DOF are kept); "
-                "add one, or use method = \"modal\"",
+    throw Error(to_string(s.method) +
+                    " reduction needs at least one [[interface]] point (its DOF are kept); "
+                    "add one, or use method = \"modal\"",
                 s.where, "reduction.method");
   }
   std::vector<int> b = in.boundary_dofs;
@@ -114,9 +115,10 @@ ReducedModel craig_bampton(const ReductionInput& in, bool with_fixed_interface_m
   if (ni > 0) {
     Eigen::CholmodSupernodalLLT<SparseMatrix, Eigen::Lower> chol(Kii);
     if (chol.info() != Eigen::Success) {
-      throw Error("the interior of the model is not restrained by the interface points and supports (the "
-                  "stiffness with the interface DOF held is singular): add an interface or a support, or "
-                  "check that the beam is connected");
+      throw Error(
+          "the interior of the model is not restrained by the interface points and supports (the "
+          "stiffness with the interface DOF held is singular): add an interface or a support, or "
+          "check that the beam is connected");
     }
     psi = -chol.solve(Eigen::MatrixXd(Kib));
   }

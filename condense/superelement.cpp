@@ -25,8 +25,11 @@ void write_points(h5::Group& g, const PointSet& points, int n, const std::string
   g.set_attribute("units", "m", "position");
   g.write("shape", stack_shapes(points, n), {count, 6, static_cast<hsize_t>(n)});
   g.set_attribute("units", "m (ux uy uz) and rad (rx ry rz) per unit coordinate", "shape");
-  g.set_attribute("description", "motion of each " + what + " point per unit of each coordinate: "
-                                 "(point, [ux uy uz rx ry rz], coordinate)", "shape");
+  g.set_attribute("description",
+                  "motion of each " + what +
+                      " point per unit of each coordinate: "
+                      "(point, [ux uy uz rx ry rz], coordinate)",
+                  "shape");
 }
 
 PointSet read_points(const h5::Group& g, int n) {
@@ -51,7 +54,8 @@ PointSet read_points(const h5::Group& g, int n) {
 
 }  // namespace
 
-void write_superelement(const std::filesystem::path& path, const Superelement& se, const Provenance& provenance) {
+void write_superelement(const std::filesystem::path& path, const Superelement& se,
+                        const Provenance& provenance) {
   const int n = se.size();
   const hsize_t hn = static_cast<hsize_t>(n);
   h5::File file = h5::File::create(path);
@@ -78,8 +82,10 @@ void write_superelement(const std::filesystem::path& path, const Superelement& s
   if (se.fixed_interface_hz.size() > 0) {
     modes.write("fixed_interface_hz", se.fixed_interface_hz);
     modes.set_attribute("units", "Hz", "fixed_interface_hz");
-    modes.set_attribute("description", "Craig-Bampton: eigenfrequencies of the model with all interface DOF "
-                                       "held, for the retained fixed-interface modes", "fixed_interface_hz");
+    modes.set_attribute("description",
+                        "Craig-Bampton: eigenfrequencies of the model with all interface DOF "
+                        "held, for the retained fixed-interface modes",
+                        "fixed_interface_hz");
   }
 
   h5::Group reduced = root.create_group("reduced");
@@ -88,10 +94,14 @@ void write_superelement(const std::filesystem::path& path, const Superelement& s
   reduced.write("damping", se.damping);
   reduced.write("coordinates", se.coordinates);
   // Generalized units: they follow the coordinates (see docs/hdf5-format.md).
-  reduced.set_attribute("units", "generalized: basis^T M basis (1 for mass-normalized modes; kg, kg m^2 for "
-                                 "interface translations, rotations)", "mass");
-  reduced.set_attribute("units", "generalized: basis^T K basis (1/s^2 for mass-normalized modes; N/m, N m/rad "
-                                 "for interface DOF)", "stiffness");
+  reduced.set_attribute("units",
+                        "generalized: basis^T M basis (1 for mass-normalized modes; kg, kg m^2 for "
+                        "interface translations, rotations)",
+                        "mass");
+  reduced.set_attribute("units",
+                        "generalized: basis^T K basis (1/s^2 for mass-normalized modes; N/m, N m/rad "
+                        "for interface DOF)",
+                        "stiffness");
   reduced.set_attribute("units", "generalized, as stiffness times s", "damping");
   reduced.set_attribute("damping_ratio", se.damping_ratio, "damping");
   reduced.set_attribute("description", "what each coordinate q_j is", "coordinates");
@@ -119,7 +129,8 @@ void write_superelement(const std::filesystem::path& path, const Superelement& s
   inv.set_attribute("description", "S_bar = int rho S dV (3 x n)", "translational_coupling");
   inv.set_attribute("units", "kg m per unit coordinate", "translational_coupling");
   inv.write("rotational_coupling", se.invariants.rotational);
-  inv.set_attribute("description", "int rho x~ S dV about the component origin (3 x n)", "rotational_coupling");
+  inv.set_attribute("description", "int rho x~ S dV about the component origin (3 x n)",
+                    "rotational_coupling");
   inv.set_attribute("units", "kg m^2 per unit coordinate", "rotational_coupling");
   std::vector<double> position, quadratic;
   for (int kl = 0; kl < 9; ++kl) {

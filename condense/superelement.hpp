@@ -54,7 +54,8 @@ struct Superelement {
 };
 
 /// Write to `path` through a temporary file renamed when complete.
-void write_superelement(const std::filesystem::path& path, const Superelement& se, const Provenance& provenance);
+void write_superelement(const std::filesystem::path& path, const Superelement& se,
+                        const Provenance& provenance);
 
 /// Read a superelement file, checking format, version and every shape.
 Superelement read_superelement(const std::filesystem::path& path);

@@ -13,8 +13,8 @@ using Row12 = Eigen::Matrix<double, 1, 12>;
 // Local DOF indices.
 constexpr int kU[2] = {0, 6};
 constexpr int kRx[2] = {3, 9};
-constexpr int kPlaneXY[4] = {1, 5, 7, 11};   // v1, rz1, v2, rz2
-constexpr int kPlaneXZ[4] = {2, 4, 8, 10};   // w1, ry1, w2, ry2
+constexpr int kPlaneXY[4] = {1, 5, 7, 11};  // v1, rz1, v2, rz2
+constexpr int kPlaneXZ[4] = {2, 4, 8, 10};  // w1, ry1, w2, ry2
 // In the x-z plane ry = -dw/dx, so (w, -ry) behaves as (v, rz): flip the sign of the rotation DOF.
 constexpr double kSignXZ[4] = {1.0, -1.0, 1.0, -1.0};
 
@@ -23,9 +23,9 @@ Eigen::Matrix4d bending_stiffness(double EI, double L, double phi) {
   const double c = EI / ((1.0 + phi) * L * L * L);
   const double L2 = L * L;
   Eigen::Matrix4d k;
-  k << 12.0, 6.0 * L, -12.0, 6.0 * L,                                 //
-      6.0 * L, (4.0 + phi) * L2, -6.0 * L, (2.0 - phi) * L2,          //
-      -12.0, -6.0 * L, 12.0, -6.0 * L,                                //
+  k << 12.0, 6.0 * L, -12.0, 6.0 * L,                         //
+      6.0 * L, (4.0 + phi) * L2, -6.0 * L, (2.0 - phi) * L2,  //
+      -12.0, -6.0 * L, 12.0, -6.0 * L,                        //
       6.0 * L, (2.0 - phi) * L2, -6.0 * L, (4.0 + phi) * L2;
   return c * k;
 }
@@ -41,13 +41,10 @@ BendingShape bending_shape(double xi, double L, double phi) {
   const double x2 = xi * xi, x3 = x2 * xi;
   BendingShape s;
   s.deflection << c * (2.0 * x3 - 3.0 * x2 - phi * xi + 1.0 + phi),
-      c * L * (x3 - (2.0 + 0.5 * phi) * x2 + (1.0 + 0.5 * phi) * xi),
-      c * (-2.0 * x3 + 3.0 * x2 + phi * xi),
+      c * L * (x3 - (2.0 + 0.5 * phi) * x2 + (1.0 + 0.5 * phi) * xi), c * (-2.0 * x3 + 3.0 * x2 + phi * xi),
       c * L * (x3 - (1.0 - 0.5 * phi) * x2 - 0.5 * phi * xi);
-  s.rotation << c * 6.0 / L * (x2 - xi),
-      c * (3.0 * x2 - (4.0 + phi) * xi + 1.0 + phi),
-      -c * 6.0 / L * (x2 - xi),
-      c * (3.0 * x2 - (2.0 - phi) * xi);
+  s.rotation << c * 6.0 / L * (x2 - xi), c * (3.0 * x2 - (4.0 + phi) * xi + 1.0 + phi),
+      -c * 6.0 / L * (x2 - xi), c * (3.0 * x2 - (2.0 - phi) * xi);
   return s;
 }
 
@@ -57,8 +54,12 @@ struct CentreLine {
 };
 CentreLine centre_line(const BeamElementData& e, double xi) {
   CentreLine n;
-  n.u.setZero(); n.v.setZero(); n.w.setZero();
-  n.rx.setZero(); n.ry.setZero(); n.rz.setZero();
+  n.u.setZero();
+  n.v.setZero();
+  n.w.setZero();
+  n.rx.setZero();
+  n.ry.setZero();
+  n.rz.setZero();
   n.u(kU[0]) = 1.0 - xi;
   n.u(kU[1]) = xi;
   n.rx(kRx[0]) = 1.0 - xi;
@@ -160,7 +161,8 @@ Matrix12 local_mass(const BeamElementData& e) {
   return m.component[0][0] + m.component[1][1] + m.component[2][2];
 }
 
-Eigen::Matrix3d beam_axes(const Eigen::Vector3d& p1, const Eigen::Vector3d& p2, const Eigen::Vector3d& y_hint) {
+Eigen::Matrix3d beam_axes(const Eigen::Vector3d& p1, const Eigen::Vector3d& p2,
+                          const Eigen::Vector3d& y_hint) {
   const Eigen::Vector3d ex = (p2 - p1).normalized();
   Eigen::Vector3d hint = y_hint;
   if (hint.norm() == 0.0) {

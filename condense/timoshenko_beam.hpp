@@ -22,14 +22,14 @@ using Vector12 = Eigen::Matrix<double, 12, 1>;
 
 /// Everything the element needs, in SI units.
 struct BeamElementData {
-  double L = 0.0;                 ///< length, m
-  double E = 0.0, G = 0.0;        ///< Young's and shear modulus, Pa
-  double rho = 0.0;               ///< density, kg/m^3
-  double A = 0.0;                 ///< area, m^2
-  double Iy = 0.0, Iz = 0.0;      ///< second moments about local y and z, m^4
-  double J = 0.0;                 ///< torsion constant, m^4
-  double shear_factor = 0.0;      ///< kappa; 0 = no shear deformation (Euler-Bernoulli)
-  bool rotary_inertia = true;     ///< rotary inertia of bending (Rayleigh); torsional inertia is always kept
+  double L = 0.0;              ///< length, m
+  double E = 0.0, G = 0.0;     ///< Young's and shear modulus, Pa
+  double rho = 0.0;            ///< density, kg/m^3
+  double A = 0.0;              ///< area, m^2
+  double Iy = 0.0, Iz = 0.0;   ///< second moments about local y and z, m^4
+  double J = 0.0;              ///< torsion constant, m^4
+  double shear_factor = 0.0;   ///< kappa; 0 = no shear deformation (Euler-Bernoulli)
+  bool rotary_inertia = true;  ///< rotary inertia of bending (Rayleigh); torsional inertia is always kept
 
   double phi_y() const;  ///< shear parameter of bending in the x-z plane (about y): 12 E Iy / (kappa G A L^2)
   double phi_z() const;  ///< shear parameter of bending in the x-y plane (about z)
@@ -55,7 +55,8 @@ BeamMassIntegrals mass_integrals(const BeamElementData& e, const Eigen::Vector3d
 /// Rows = unit local axes (x, y, z) in global coordinates, for an element from p1 to p2.
 /// `y_hint` fixes local y (projected normal to x); a zero hint picks global Y, or global Z when the
 /// element is nearly parallel to Y. nvh::Error if the hint is parallel to the element.
-Eigen::Matrix3d beam_axes(const Eigen::Vector3d& p1, const Eigen::Vector3d& p2, const Eigen::Vector3d& y_hint);
+Eigen::Matrix3d beam_axes(const Eigen::Vector3d& p1, const Eigen::Vector3d& p2,
+                          const Eigen::Vector3d& y_hint);
 
 /// 12x12 transformation from global to local DOF: u_local = T u_global (blockdiag of `axes`, 4 times).
 Matrix12 local_from_global(const Eigen::Matrix3d& axes);

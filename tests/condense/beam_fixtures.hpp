@@ -56,6 +56,8 @@ inline Support fixed(const Vec3& at, const std::string& dofs_mask = "111111") {
   return s;
 }
 
-inline NamedPoint point(const std::string& name, const Vec3& at) { return NamedPoint{name, at, {}, name}; }
+inline NamedPoint point(const std::string& name, const Vec3& at) {
+  return NamedPoint{name, at, {}, name};
+}
 
 }  // namespace nvh::condense::testing

@@ -6,9 +6,11 @@
 //   Frequency and Mode Shape, 1979, Table 8-1); omega = (beta L)^2 sqrt(E I / (rho A L^4)).
 // - Axial and torsional rods fixed-free: f_n = (2n - 1) c / (4 L), c = sqrt(E/rho) and
 //   c = sqrt(G J / (rho I_p)).
-// - Simply supported Timoshenko beam: det [[kGA k^2 - rho A w^2, -kGA k], [-kGA k, EI k^2 + kGA - rho I w^2]] = 0,
+// - Simply supported Timoshenko beam: det [[kGA k^2 - rho A w^2, -kGA k], [-kGA k, EI k^2 + kGA - rho I w^2]]
+// = 0,
 //   k = n pi / L (Timoshenko 1921; e.g. Han, Benaroya and Wei, J. Sound Vib. 225(5), 1999, eq. 61);
-//   its Euler-Bernoulli limit w = k^2 sqrt(EI / (rho A)) and the Rayleigh beam w^2 = EI k^4 / (rho A + rho I k^2).
+//   its Euler-Bernoulli limit w = k^2 sqrt(EI / (rho A)) and the Rayleigh beam w^2 = EI k^4 / (rho A + rho I
+//   k^2).
 #include <gtest/gtest.h>
 
 #include <Eigen/Eigenvalues>
@@ -203,7 +205,8 @@ TEST_F(ThickBeam, RayleighBeamWhenOnlyShearIsDropped) {
   const std::vector<double> f = ss_frequencies(rayleigh);
   for (int n = 1; n <= 4; ++n) {
     const double k = n * kPi / L;
-    const double w2 = steel.E * rayleigh.Iz * std::pow(k, 4) / (steel.rho * rayleigh.A + steel.rho * rayleigh.Iz * k * k);
+    const double w2 =
+        steel.E * rayleigh.Iz * std::pow(k, 4) / (steel.rho * rayleigh.A + steel.rho * rayleigh.Iz * k * k);
     EXPECT_NEAR(f[n - 1] / (std::sqrt(w2) / (2.0 * kPi)), 1.0, 1e-3) << "mode " << n;
   }
 }
@@ -266,7 +269,8 @@ TEST(TimoshenkoElement, TimoshenkoMassMatchesPrzemieniecki) {
   const double d = (1 + phi) * (1 + phi);
   const double L = e.L, rAL = e.rho * e.A * e.L, rIL = e.rho * e.Iz / e.L;
   const double m11 = rAL * (13.0 / 35 + 7.0 / 10 * phi + phi * phi / 3) / d + rIL * 6.0 / 5 / d;
-  const double m12 = rAL * (11.0 / 210 + 11.0 / 120 * phi + phi * phi / 24) * L / d + rIL * (0.1 - 0.5 * phi) * L / d;
+  const double m12 =
+      rAL * (11.0 / 210 + 11.0 / 120 * phi + phi * phi / 24) * L / d + rIL * (0.1 - 0.5 * phi) * L / d;
   const double m22 = rAL * (1.0 / 105 + phi / 60 + phi * phi / 120) * L * L / d +
                      rIL * (2.0 / 15 + phi / 6 + phi * phi / 3) * L * L / d;
   const double m24 = -rAL * (1.0 / 140 + phi / 60 + phi * phi / 120) * L * L / d +

@@ -35,8 +35,8 @@ class CondenseCli : public ::testing::Test {
   CliRun run_condense(const std::string& text, const std::string& extra = "") {
     const fs::path input = dir_ / "part.toml";
     std::ofstream(input) << text;
-    const std::string command =
-        std::string(NVH_CONDENSE_EXE) + " " + input.string() + " -o " + output().string() + " " + extra + " 2>&1";
+    const std::string command = std::string(NVH_CONDENSE_EXE) + " " + input.string() + " -o " +
+                                output().string() + " " + extra + " 2>&1";
     CliRun run;
     FILE* pipe = popen(command.c_str(), "r");
     std::array<char, 512> buffer;
@@ -120,11 +120,11 @@ TEST_F(CondenseCli, GoodInputWritesTheDocumentedLayout) {
   EXPECT_EQ(root.string_attribute("units"), "SI");
   EXPECT_EQ(root.string_attribute("tool"), "condense");
   EXPECT_EQ(root.string_attribute("input_sha256").size(), 64u);
-  for (const char* path : {"modes/frequency_hz", "reduced/mass", "reduced/stiffness", "reduced/damping",
-                           "interface/name", "interface/position", "interface/shape", "observe/name",
-                           "observe/position", "observe/shape", "invariants/mass", "invariants/center_of_mass",
-                           "invariants/inertia", "invariants/translational_coupling",
-                           "invariants/rotational_coupling", "invariants/quadratic"}) {
+  for (const char* path :
+       {"modes/frequency_hz", "reduced/mass", "reduced/stiffness", "reduced/damping", "interface/name",
+        "interface/position", "interface/shape", "observe/name", "observe/position", "observe/shape",
+        "invariants/mass", "invariants/center_of_mass", "invariants/inertia",
+        "invariants/translational_coupling", "invariants/rotational_coupling", "invariants/quadratic"}) {
     EXPECT_TRUE(root.exists(path)) << path;
   }
   const nvh::condense::Superelement se = nvh::condense::read_superelement(output());
@@ -167,8 +167,8 @@ TEST_F(CondenseCli, SegmentWithoutSection) {
 }
 
 TEST_F(CondenseCli, UnknownMaterial) {
-  expect_located(run_condense(replace(kGood, "material = \"steel\"", "material = \"stel\"")), 11, "beam.material",
-                 "unknown material \"stel\"");
+  expect_located(run_condense(replace(kGood, "material = \"steel\"", "material = \"stel\"")), 11,
+                 "beam.material", "unknown material \"stel\"");
   EXPECT_TRUE(directory_holds_only_the_input());
 }
 
@@ -191,7 +191,8 @@ TEST_F(CondenseCli, UnknownKeyWithDidYouMean) {
 }
 
 TEST_F(CondenseCli, MisspeltRequiredKeyPointsAtTheMisspelling) {
-  expect_located(run_condense(replace(kGood, "Iy = 4.9e-10", "Iyy = 4.9e-10")), 18, "Iyy", "did you mean 'Iy'");
+  expect_located(run_condense(replace(kGood, "Iy = 4.9e-10", "Iyy = 4.9e-10")), 18, "Iyy",
+                 "did you mean 'Iy'");
   EXPECT_TRUE(directory_holds_only_the_input());
 }
 
@@ -226,8 +227,8 @@ TEST_F(CondenseCli, InterruptedRunLeavesNoOutputAndExitsWithThree) {
   big = replace(big, "fmax = 2000.0", "modes = 300");
   const fs::path input = dir_ / "part.toml";
   std::ofstream(input) << big;
-  const std::string command = "timeout --preserve-status -s TERM 1 " + std::string(NVH_CONDENSE_EXE) + " " + input.string() +
-                              " -o " + output().string() + " --method modal 2>&1";
+  const std::string command = "timeout --preserve-status -s TERM 1 " + std::string(NVH_CONDENSE_EXE) + " " +
+                              input.string() + " -o " + output().string() + " --method modal 2>&1";
   FILE* pipe = popen(command.c_str(), "r");
   std::string text;
   std::array<char, 512> buffer;

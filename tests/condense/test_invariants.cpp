@@ -28,8 +28,8 @@ const Logger kQuiet{std::cerr, "test", Verbosity::kQuiet};
 Component crank_throw() {
   Component c = straight_beam(1.0, circle(0.05, 0.9), 6);
   const double r = 0.045;
-  c.beam.points = {Vec3{0, 0, 0},    Vec3{0.06, 0, 0},  Vec3{0.06, r, 0}, Vec3{0.12, r, 0},
-                   Vec3{0.12, 0, 0}, Vec3{0.18, 0, 0}};
+  c.beam.points = {Vec3{0, 0, 0},    Vec3{0.06, 0, 0}, Vec3{0.06, r, 0},
+                   Vec3{0.12, r, 0}, Vec3{0.12, 0, 0}, Vec3{0.18, 0, 0}};
   BeamSection web = rectangle(0.07, 0.02, 0.833);  // 70 mm wide (local y), 20 mm thick (local z)
   web.y_axis = Vec3{0, 0, 1};                      // wide direction along global z
   c.beam.segment_sections = {circle(0.055, 0.9), web, circle(0.048, 0.9), web, circle(0.055, 0.9)};
@@ -44,8 +44,8 @@ Component crank_throw() {
 
 struct HandInertia {
   double m = 0;
-  Eigen::Vector3d first = Eigen::Vector3d::Zero();    // sum m x
-  Eigen::Matrix3d origin = Eigen::Matrix3d::Zero();   // about the origin
+  Eigen::Vector3d first = Eigen::Vector3d::Zero();   // sum m x
+  Eigen::Matrix3d origin = Eigen::Matrix3d::Zero();  // about the origin
 
   void add(double mass, const Eigen::Vector3d& at, const Eigen::Matrix3d& j_own) {
     m += mass;
@@ -126,7 +126,8 @@ TEST(Testdata, ComponentsCondenseAsWrittenAndMatchAFullModalSolve) {
     const Superelement modal = condense_component(full, EigenBackend::kSpectra, kQuiet);
     int in_band = 0;
     for (int i = 0; i < modal.frequency_hz.size() && modal.frequency_hz(i) <= k.band_hz; ++i, ++in_band) {
-      EXPECT_NEAR(reduced.frequency_hz(i) / modal.frequency_hz(i), 1.0, k.tolerance) << k.file << " mode " << i + 1;
+      EXPECT_NEAR(reduced.frequency_hz(i) / modal.frequency_hz(i), 1.0, k.tolerance)
+          << k.file << " mode " << i + 1;
     }
     EXPECT_GE(in_band, 1) << k.file;
     EXPECT_NEAR(reduced.inertia.mass / hand_calculation(c).m, 1.0, 1e-12) << k.file;
@@ -164,9 +165,9 @@ TEST(Invariants, RigidBodyBlockOfTheRawCraigBamptonMassEqualsTheMassProperties) 
   EXPECT_NEAR((rigid.bottomRightCorner(3, 3) - h.origin).norm() / h.origin.norm(), 0.0, 1e-9);
   // First moment: the (rotation, translation) block is m [c]x.
   const Eigen::Vector3d mc = h.first;
-  EXPECT_NEAR(rigid(5, 1), mc.x(), 1e-9 * h.m);   // ([c]x)(2,1) = c_x
-  EXPECT_NEAR(rigid(3, 2), mc.y(), 1e-9 * h.m);   // ([c]x)(0,2) = c_y
-  EXPECT_NEAR(rigid(4, 0), mc.z(), 1e-9 * h.m);   // ([c]x)(1,0) = c_z
+  EXPECT_NEAR(rigid(5, 1), mc.x(), 1e-9 * h.m);  // ([c]x)(2,1) = c_x
+  EXPECT_NEAR(rigid(3, 2), mc.y(), 1e-9 * h.m);  // ([c]x)(0,2) = c_y
+  EXPECT_NEAR(rigid(4, 0), mc.z(), 1e-9 * h.m);  // ([c]x)(1,0) = c_z
 }
 
 TEST(Invariants, ModalInvariantsAreConsistentWithEachOther) {
@@ -188,7 +189,8 @@ TEST(Invariants, ModalInvariantsAreConsistentWithEachOther) {
     const int k = (i + 1) % 3, l = (i + 2) % 3;
     const Eigen::VectorXd from_position = inv.position[3 * k + l] - inv.position[3 * l + k];
     EXPECT_NEAR((from_position - inv.rotational.row(i).transpose()).norm(), 0.0,
-                1e-10 * inv.rotational.norm()) << "axis " << i;
+                1e-10 * inv.rotational.norm())
+        << "axis " << i;
   }
   const Eigen::MatrixXd trace = inv.quadratic[0] + inv.quadratic[4] + inv.quadratic[8];
   EXPECT_NEAR((trace - se.mass).norm(), 0.0, 1e-10 * n);

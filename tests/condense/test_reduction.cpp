@@ -4,8 +4,8 @@
 //   GeneralizedSelfAdjointEigenSolver (a different solver from the Lanczos path condense uses).
 // - Guyan's known error: condensing a cantilever onto its tip (v, theta) gives exactly the one-element
 //   cubic-Hermite model, because the static deflection under tip loads is cubic; its frequencies are the
-//   roots of det(K1 - w^2 M1) = 0 with K1 = EI/L^3 [12 -6L; -6L 4L^2], M1 = rho A L/420 [156 -22L; -22L 4L^2]:
-//   w = 3.5327 and 34.807 sqrt(EI / (rho A L^4)) (e.g. Petyt, Introduction to Finite Element Vibration
+//   roots of det(K1 - w^2 M1) = 0 with K1 = EI/L^3 [12 -6L; -6L 4L^2], M1 = rho A L/420 [156 -22L; -22L
+//   4L^2]: w = 3.5327 and 34.807 sqrt(EI / (rho A L^4)) (e.g. Petyt, Introduction to Finite Element Vibration
 //   Analysis, 2nd ed. 2010, Table 3.2), against the exact 3.5160 and 22.034.
 #include <gtest/gtest.h>
 
@@ -58,7 +58,8 @@ TEST(CraigBampton, ReproducesTheLowestFrequenciesWithinPointOnePercent) {
   EXPECT_EQ(se.rigid_body_modes_removed, 6);
   // Orthonormalized: B^T M B = I, checked on the nodal shapes through the quadratic invariants
   // (S_xx + S_yy + S_zz = B^T M B, assembled from the element integrals, not from M_r).
-  const Eigen::MatrixXd btmb = se.invariants.quadratic[0] + se.invariants.quadratic[4] + se.invariants.quadratic[8];
+  const Eigen::MatrixXd btmb =
+      se.invariants.quadratic[0] + se.invariants.quadratic[4] + se.invariants.quadratic[8];
   EXPECT_NEAR((btmb - Eigen::MatrixXd::Identity(se.size(), se.size())).norm(), 0.0, 1e-8);
 }
 
@@ -133,9 +134,10 @@ TEST(Guyan, ShowsTheKnownErrorOfStaticCondensation) {
   const Steel steel;
   const double unit = std::sqrt(steel.E * s.Iz / (steel.rho * s.A * std::pow(L, 4))) / (2 * kPi);
   // One cubic element: det([12 -6; -6 4] - x/420 [156 -22; -22 4]) = 0 (L = 1 in these units).
-  const double a = (156.0 * 4 - 22.0 * 22) / (420.0 * 420.0), b = -(12.0 * 4 + 4.0 * 156 - 2 * 6.0 * 22) / 420.0,
-               cc = 12.0 * 4 - 36.0;
-  const double x1 = (-b - std::sqrt(b * b - 4 * a * cc)) / (2 * a), x2 = (-b + std::sqrt(b * b - 4 * a * cc)) / (2 * a);
+  const double a = (156.0 * 4 - 22.0 * 22) / (420.0 * 420.0),
+               b = -(12.0 * 4 + 4.0 * 156 - 2 * 6.0 * 22) / 420.0, cc = 12.0 * 4 - 36.0;
+  const double x1 = (-b - std::sqrt(b * b - 4 * a * cc)) / (2 * a),
+               x2 = (-b + std::sqrt(b * b - 4 * a * cc)) / (2 * a);
   EXPECT_NEAR(std::sqrt(x1), 3.5327, 1e-4);  // the textbook values, as a check of this reference
   EXPECT_NEAR(std::sqrt(x2), 34.807, 1e-3);
   EXPECT_NEAR(se.frequency_hz(0) / (std::sqrt(x1) * unit), 1.0, 1e-3);
