@@ -2,7 +2,7 @@
 
 #include <Eigen/SVD>
 #include <algorithm>
-#include <map>
+#include <set>
 #include <sstream>
 
 #include "condense/beam_model.hpp"
@@ -45,6 +45,30 @@ PointSet point_set(const BeamModel& model, const std::vector<NamedPoint>& points
     set.shapes.push_back(shapes.middleRows(6 * nodes[i], 6));
   }
   return set;
+}
+
+/// Boundary DOF of Craig-Bampton and Guyan: the free DOF of each interface node (its master's for the
+/// end of a rigid link), each once, in the order of the file; named "<interface>.<dof>".
+void collect_boundary(const BeamModel& model, const std::vector<NamedPoint>& interfaces,
+                      const std::vector<int>& nodes, std::vector<int>& dofs, std::vector<std::string>& names) {
+  // Free index of each master DOF: the identity entries of T.
+  std::vector<int> free_of_dof(model.all_dofs(), -1);
+  for (int col = 0; col < model.transform.outerSize(); ++col) {
+    for (SparseMatrix::InnerIterator it(model.transform, col); it; ++it) {
+      const int node = static_cast<int>(it.row()) / 6;
+      if (model.master_of[node] == node && it.value() == 1.0) free_of_dof[it.row()] = col;
+    }
+  }
+  std::set<int> taken;
+  for (std::size_t i = 0; i < interfaces.size(); ++i) {
+    const int master = model.master_of[nodes[i]];
+    for (int d = 0; d < 6; ++d) {
+      const int f = free_of_dof[6 * master + d];
+      if (f < 0 || !taken.insert(f).second) continue;
+      dofs.push_back(f);
+      names.push_back(interfaces[i].name + "." + kDofNames[d]);
+    }
+  }
 }
 
 }  // namespace
@@ -102,46 +126,13 @@ Superelement condense_component(const Component& c, EigenBackend backend, const 
            " beam elements, " + std::to_string(model.free_dofs()) + " free DOF");
   if (timer) timer->lap("assemble");
 
-  // Boundary DOF of Craig-Bampton and Guyan: the free DOF of each interface node (its master's for a
-  // rigid-link end), each once.
   ReductionInput in;
   in.stiffness = &K;
   in.mass = &M;
   in.settings = c.reduction;
   in.backend = backend;
   in.rigid_body_modes = count_rigid_body_modes(model);
-  std::map<int, bool> taken;
-  // Free index of each master DOF (the identity entries of T).
-  std::vector<int> free_of_dof(model.all_dofs(), -1);
-  for (int col = 0; col < model.transform.outerSize(); ++col) {
-    for (SparseMatrix::InnerIterator it(model.transform, col); it; ++it) {
-      const int node = static_cast<int>(it.row()) / 6;
-      if (model.master_of[node] == node && it.value() == 1.0) free_of_dof[it.row()] = col;
-    }
-  }
-  for (std::size_t i = 0; i < c.interfaces.size(); ++i) {
-    const int master = model.master_of[interface_nodes[i]];
-    for (int d = 0; d < 6; ++d) {
-      const int f = free_of_dof[6 * master + d];
-      if (f < 0 || taken.count(f)) continue;
-      taken[f] = true;
-      in.boundary_dofs.push_back(f);
-      in.boundary_names.push_back(c.interfaces[i].name + "." + kDofNames[d]);
-    }
-  }
-  // Ascending boundary order keeps the names aligned with the basis columns.
-  std::vector<std::size_t> order(in.boundary_dofs.size());
-  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
-  std::sort(order.begin(), order.end(),
-            [&](auto a, auto b) { return in.boundary_dofs[a] < in.boundary_dofs[b]; });
-  std::vector<int> dofs;
-  std::vector<std::string> names;
-  for (std::size_t i : order) {
-    dofs.push_back(in.boundary_dofs[i]);
-    names.push_back(in.boundary_names[i]);
-  }
-  in.boundary_dofs = dofs;
-  in.boundary_names = names;
+  collect_boundary(model, c.interfaces, interface_nodes, in.boundary_dofs, in.boundary_names);
 
   log.info("reduce: " + to_string(c.reduction.method) + " on " + std::to_string(model.free_dofs()) +
            " DOF (" + std::to_string(in.boundary_dofs.size()) + " interface DOF, " +
