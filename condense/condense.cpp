@@ -116,7 +116,7 @@ int count_rigid_body_modes(const BeamModel& model) {
 }
 
 Superelement condense_component(const Component& c, EigenBackend backend, const Logger& log,
-                                StageTimer* timer) {
+                                StageTimer* timer, const EigenProgress& progress) {
   const BeamModel model = build_beam_model(c);
   const std::vector<int> interface_nodes = locate(model, c.interfaces, c.point_tolerance, "interface");
   const std::vector<int> observer_nodes = locate(model, c.observers, c.point_tolerance, "observation");
@@ -131,6 +131,7 @@ Superelement condense_component(const Component& c, EigenBackend backend, const 
   in.mass = &M;
   in.settings = c.reduction;
   in.backend = backend;
+  in.progress = progress;
   in.rigid_body_modes = count_rigid_body_modes(model);
   collect_boundary(model, c.interfaces, interface_nodes, in.boundary_dofs, in.boundary_names);
 

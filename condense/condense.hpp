@@ -26,9 +26,9 @@ void apply_options(Component& component, const CondenseOptions& options);
 void check_reduction(const Component& component);
 
 /// Build, reduce and describe the component. `timer` (optional) gets one lap per stage:
-/// assemble, reduce, invariants.
+/// assemble, reduce, invariants; `progress` (optional) follows the iterative eigen-solves.
 Superelement condense_component(const Component& component, EigenBackend backend, const Logger& log,
-                                StageTimer* timer = nullptr);
+                                StageTimer* timer = nullptr, const EigenProgress& progress = {});
 
 /// Number of rigid-body modes the supports leave: 6 - rank of the rigid-body field on the supported DOF.
 int count_rigid_body_modes(const BeamModel& model);

@@ -112,6 +112,14 @@ class ShiftInvertOperator {
     Eigen::Map<Eigen::VectorXd> y(y_out, rows());
     y = factor_.solve(x);
     ++solves_;
+    if (progress_ && (solves_ - run_start_) % 8 == 0) progress_(solves_ - run_start_, run_expected_);
+  }
+
+  /// Start of a Lanczos run that needs about `expected` solves; `progress` may be empty.
+  void start_run(int expected, const EigenProgress* progress) {
+    run_start_ = solves_;
+    run_expected_ = expected;
+    progress_ = progress && *progress ? *progress : EigenProgress{};
   }
 
  private:
@@ -150,6 +158,9 @@ class ShiftInvertOperator {
   Factor factor_;
   double sigma_ = std::numeric_limits<double>::quiet_NaN();
   mutable int solves_ = 0;
+  int run_start_ = 0;
+  int run_expected_ = 0;
+  EigenProgress progress_;
 };
 
 /// Eigenpairs as a backend returns them (any order, vectors not yet checked).
@@ -515,6 +526,7 @@ EigenResult solve_eigenproblem(const SparseMatrix& K_in, const SparseMatrix& M_i
     const double sigma = request.shift < 0.0 ? request.shift : automatic_shift(K, M, request);
     ShiftInvertOperator op(K, M, sigma);
     const auto solve = [&](int nev) {
+      op.start_run(lanczos_size(nev, n) + 1, &request.progress);
       return request.backend == EigenBackend::kArpack ? solve_arpack(op, M, nev, request.tolerance)
                                                       : solve_spectra(op, M, nev, request.tolerance);
     };

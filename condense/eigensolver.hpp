@@ -14,6 +14,7 @@
 // reusing the factorization. Every returned mode passes a residual check.
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
+#include <functional>
 #include <string>
 
 namespace nvh::condense {
@@ -21,6 +22,11 @@ namespace nvh::condense {
 using SparseMatrix = Eigen::SparseMatrix<double>;  // column-major
 
 enum class EigenBackend { kSpectra, kArpack, kDense };
+
+/// Progress of an iterative solve: solves with the factorization done in the current Lanczos run, and
+/// the number a run without restarts needs (its basis size). Called every few solves; the library
+/// never prints, the caller decides (the CLI draws nvh::Progress).
+using EigenProgress = std::function<void(int done, int expected)>;
 
 /// Parse "spectra" | "arpack" | "dense"; nvh::Error listing the choices otherwise.
 EigenBackend parse_eigen_backend(const std::string& name);
@@ -38,6 +44,7 @@ struct EigenRequest {
   /// (the last term, the round-off floor of K x, keeps rigid modes - K x and lambda both round-off - from
   /// failing the check).
   double residual_limit = 1e-6;
+  EigenProgress progress;  ///< optional
 };
 
 struct EigenResult {

@@ -3,11 +3,13 @@
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <iostream>
+#include <memory>
 #include <sstream>
 
 #include "common/error.hpp"
 #include "common/interrupt.hpp"
 #include "common/log.hpp"
+#include "common/progress.hpp"
 #include "common/provenance.hpp"
 #include "common/resources.hpp"
 #include "common/version.hpp"
@@ -128,7 +130,18 @@ int main(int argc, char** argv) {
       log.info(what.str());
     }
 
-    const Superelement se = condense_component(component, options.backend, log, &timer);
+    // The eigen-solve is the long stage: a bar on a terminal, plain lines in batch logs.
+    std::unique_ptr<Progress> bar;
+    int bar_total = 0;
+    const EigenProgress progress = [&](int done, int expected) {
+      if (!bar || expected != bar_total) {
+        bar = std::make_unique<Progress>(log, "eigen-solve", expected);
+        bar_total = expected;
+      }
+      bar->update(std::min(done, expected));
+    };
+    const Superelement se = condense_component(component, options.backend, log, &timer, progress);
+    bar.reset();
     const Provenance provenance = make_provenance("condense", argc, argv, {component_file});
     write_superelement(output_file, se, provenance);
     timer.lap("write");

@@ -37,9 +37,10 @@ SparseMatrix submatrix(const SparseMatrix& a, const std::vector<int>& rows, cons
 }
 
 /// The request for the lowest modes: `modes` elastic ones (plus the rigid ones), or up to fmax.
-EigenRequest request_for(const ReductionSettings& s, int rigid, EigenBackend backend) {
+EigenRequest request_for(const ReductionSettings& s, int rigid, const ReductionInput& in) {
   EigenRequest r;
-  r.backend = backend;
+  r.backend = in.backend;
+  r.progress = in.progress;
   if (s.modes > 0) {
     r.modes = s.modes + rigid;
   } else {
@@ -59,7 +60,7 @@ Eigen::MatrixXd modal_damping(const Eigen::MatrixXd& mass, const Eigen::MatrixXd
 ReducedModel modal_reduction(const ReductionInput& in, const Logger& log) {
   const ReductionSettings& s = in.settings;
   const int rigid = in.rigid_body_modes;
-  EigenResult eig = solve_eigenproblem(*in.stiffness, *in.mass, request_for(s, rigid, in.backend));
+  EigenResult eig = solve_eigenproblem(*in.stiffness, *in.mass, request_for(s, rigid, in));
   const int found = static_cast<int>(eig.eigenvalues.size());
   if (found <= rigid) {
     // Nothing elastic below fmax: find the first elastic mode to say where it is.
@@ -129,7 +130,7 @@ ReducedModel craig_bampton(const ReductionInput& in, bool with_fixed_interface_m
   double max_residual = 0.0;
   if (with_fixed_interface_modes && ni > 0) {
     const SparseMatrix Mii = submatrix(M, i_dofs, i_dofs);
-    const EigenResult eig = solve_eigenproblem(Kii, Mii, request_for(s, 0, in.backend));
+    const EigenResult eig = solve_eigenproblem(Kii, Mii, request_for(s, 0, in));
     if (eig.eigenvalues.size() == 0) {
       EigenRequest first;
       first.backend = in.backend;

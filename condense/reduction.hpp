@@ -32,6 +32,7 @@ struct ReductionInput {
   int rigid_body_modes = 0;                 ///< how many zero-frequency modes the unsupported model has
   ReductionSettings settings;
   EigenBackend backend = EigenBackend::kSpectra;
+  EigenProgress progress;  ///< optional, handed to the eigen-solves
 };
 
 struct ReducedModel {
