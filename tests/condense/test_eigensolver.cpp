@@ -166,6 +166,25 @@ TEST_P(Backends, FixedFreeChainLowestModes) {
       to_string(GetParam()).c_str(), n, error, r.residuals.maxCoeff(), r.matrix_operations);
 }
 
+TEST(EigenSolver, ProgressFollowsTheLanczosRun) {
+  // Spectra on the 2000-DOF chain, 30 modes: the callback sees increasing counts up to about the
+  // basis size (one pass without restarts), and the total equals the solves the result reports.
+  const Problem p = chain(2000, false);
+  EigenRequest request;
+  request.modes = 30;
+  std::vector<std::pair<int, int>> calls;
+  request.progress = [&](int done, int expected) { calls.emplace_back(done, expected); };
+  const EigenResult r = solve_eigenproblem(p.K, p.M, request);
+  ASSERT_GE(calls.size(), 3u);
+  for (std::size_t i = 1; i < calls.size(); ++i) {
+    EXPECT_EQ(calls[i].second, calls[0].second);  // the same run
+    EXPECT_GT(calls[i].first, calls[i - 1].first);
+  }
+  EXPECT_EQ(calls[0].second, 30 + 20 + 1);  // basis max(1.5 nev + 1, nev + 20) plus the start vector
+  EXPECT_LE(calls.back().first, r.matrix_operations);
+  EXPECT_GT(calls.back().first, r.matrix_operations - 8);  // reported every 8 solves
+}
+
 TEST_P(Backends, FreeFreeChainRigidMode) {
   const int n = chain_size(GetParam());
   const Problem p = chain(n, true);
