@@ -176,7 +176,7 @@ Component frame() {
 /// `held` removed; dense, by Eigen, in long double: in double precision the round-off of the lowest
 /// eigenvalue, about eps lambda_max / lambda_1, reaches 1e-8 for the 64-element cantilever (the
 /// rotations carry almost no mass) and would hide the discretization error there.
-std::vector<double> plane_frequencies(const BeamModel& model, const std::vector<int>& dofs,
+std::vector<double> plane_frequencies(const FeModel& model, const std::vector<int>& dofs,
                                       const std::vector<std::pair<int, int>>& held) {
   using MatrixL = Eigen::Matrix<long double, Eigen::Dynamic, Eigen::Dynamic>;
   std::vector<int> keep;
@@ -341,7 +341,7 @@ std::vector<BeamCase> cantilever_cases(const Logger& log, EigenBackend backend) 
     c.elements = n;
     c.component = straight_beam(L, s, n);
     c.component.supports = {support({0, 0, 0}, "111111")};
-    const BeamModel model = build_beam_model(c.component);
+    const FeModel model = build_beam_model(c.component);
     c.free_dofs = model.free_dofs();
     c.modes = std::min(kModes, c.free_dofs);
     c.component.reduction.modes = c.modes;
@@ -382,7 +382,7 @@ std::vector<BeamCase> thick_cases(const Logger& log, EigenBackend backend) {
       c.component = straight_beam(L, s, n);
       // Simply supported in both bending planes; axial motion and torsion held at x = 0.
       c.component.supports = {support({0, 0, 0}, "111100"), support({L, 0, 0}, "011000")};
-      const BeamModel model = build_beam_model(c.component);
+      const FeModel model = build_beam_model(c.component);
       c.free_dofs = model.free_dofs();
       c.modes = std::min(kModes, c.free_dofs);
       c.component.reduction.modes = c.modes;
@@ -454,7 +454,7 @@ struct ReductionCase {
 
 std::vector<ReductionCase> frame_cases(const Logger& log, EigenBackend backend, int& free_dofs) {
   const Component base = frame();
-  const BeamModel model = build_beam_model(base);
+  const FeModel model = build_beam_model(base);
   free_dofs = model.free_dofs();
   const Eigen::MatrixXd K(model.stiffness()), M(model.mass());
   Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> eig(K, M);

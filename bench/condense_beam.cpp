@@ -231,7 +231,7 @@ int main(int argc, char** argv) {
     StageTimer timer;
     Eigen::VectorXd bare_hz;
     {
-      const BeamModel model = build_beam_model(component);
+      const FeModel model = build_beam_model(component);
       const SparseMatrix K = model.stiffness();
       const SparseMatrix M = model.mass();
       timer.lap("model: build, K and M");

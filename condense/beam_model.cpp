@@ -54,47 +54,11 @@ Eigen::Matrix3d point_mass_rotary_component(const Eigen::Matrix3d& J, int a, int
 
 }  // namespace
 
-int BeamModel::find_node(const Vec3& at, double tolerance) const {
-  const Eigen::Vector3d p = as_vector(at);
-  int best = -1;
-  double best_distance = tolerance;
-  for (std::size_t i = 0; i < nodes.size(); ++i) {
-    const double d = (nodes[i] - p).norm();
-    if (d <= best_distance) {
-      best = static_cast<int>(i);
-      best_distance = d;
-    }
-  }
-  return best;
-}
-
-SparseMatrix BeamModel::stiffness() const {
-  return SparseMatrix(transform.transpose() * stiffness_all * transform);
-}
-
-SparseMatrix BeamModel::mass() const {
-  return SparseMatrix(transform.transpose() * mass_all * transform);
-}
-
-Eigen::MatrixXd BeamModel::rigid_body_field() const {
-  Eigen::MatrixXd r = Eigen::MatrixXd::Zero(all_dofs(), 6);
-  for (std::size_t n = 0; n < nodes.size(); ++n) {
-    const Eigen::Vector3d& x = nodes[n];
-    for (int k = 0; k < 3; ++k) {
-      r(6 * n + k, k) = 1.0;
-      // Unit rotation about axis k: u = e_k x x, theta = e_k.
-      const Eigen::Vector3d u = Eigen::Vector3d::Unit(k).cross(x);
-      r.block<3, 1>(6 * n, 3 + k) = u;
-      r(6 * n + 3 + k, 3 + k) = 1.0;
-    }
-  }
-  return r;
-}
-
-BeamModel build_beam_model(const Component& c) {
+FeModel build_beam_model(const Component& c) {
   const BeamGeometry& beam = c.beam;
   const double tol = c.point_tolerance;
-  BeamModel model;
+  FeModel model;
+  model.element_kind = "beam elements";
 
   // --- nodes along the polyline: station s is node s * elements_per_segment ---
   const int per = beam.elements_per_segment;
@@ -257,33 +221,8 @@ BeamModel build_beam_model(const Component& c) {
       if (sup.dofs[d]) model.supported_dof[6 * n + d] = true;
   }
 
-  // --- T: free DOF are the unsupported DOF of master nodes; slaves follow u_s = u_m + theta_m x r ---
-  std::vector<int> free_index(n_all, -1);
-  int n_free = 0;
-  for (int n = 0; n < static_cast<int>(model.nodes.size()); ++n) {
-    if (model.master_of[n] != n) continue;
-    for (int d = 0; d < 6; ++d)
-      if (!model.supported_dof[6 * n + d]) free_index[6 * n + d] = n_free++;
-  }
-  Triplets tt;
-  for (int n = 0; n < static_cast<int>(model.nodes.size()); ++n) {
-    const int m = model.master_of[n];
-    auto add = [&](int row, int master_dof, double value) {
-      const int col = free_index[master_dof];
-      if (col >= 0 && value != 0.0) tt.emplace_back(row, col, value);
-    };
-    for (int d = 0; d < 6; ++d) add(6 * n + d, 6 * m + d, 1.0);
-    if (m != n) {
-      // theta x r = -r x theta: u_s,i += sum_j (-[r]_x)_{ij} theta_j.
-      const Eigen::Vector3d r = model.nodes[n] - model.nodes[m];
-      Eigen::Matrix3d rx;
-      rx << 0, -r.z(), r.y(), r.z(), 0, -r.x(), -r.y(), r.x(), 0;
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) add(6 * n + i, 6 * m + 3 + j, -rx(i, j));
-    }
-  }
-  model.transform.resize(n_all, n_free);
-  model.transform.setFromTriplets(tt.begin(), tt.end());
+  model.inactive_dof.assign(n_all, false);
+  build_transform(model);
   return model;
 }
 

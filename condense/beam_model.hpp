@@ -1,55 +1,13 @@
 #pragma once
-// The finite-element model of a structured beam component: nodes with 6 DOF each
-// (ux uy uz rx ry rz, global axes), Timoshenko beam elements along the polyline of stations, point
-// masses, rigid links (slave nodes tied to a master station) and supports.
-//
-// Nodal DOF ("all") versus independent DOF ("free"): slave nodes of rigid links and supported DOF are
-// eliminated by a sparse transformation u_all = T u_free (master-slave elimination), so the matrices a
-// reduction works on are K = T^T K_all T and M = T^T M_all T, always positive (semi-)definite.
-#include <Eigen/Core>
-#include <Eigen/SparseCore>
-#include <array>
-#include <string>
-#include <vector>
-
+// The finite-element model of a structured beam component: Timoshenko beam elements along the polyline
+// of stations, point masses, rigid links (slave nodes tied to a master station) and supports.
 #include "condense/component.hpp"
+#include "condense/fe_model.hpp"
 
 namespace nvh::condense {
 
-using SparseMatrix = Eigen::SparseMatrix<double>;
-
-struct BeamModel {
-  std::vector<Eigen::Vector3d> nodes;  ///< node positions, m
-  int element_count = 0;
-
-  SparseMatrix stiffness_all;  ///< 6N x 6N, N/m and N m/rad
-  SparseMatrix mass_all;       ///< 6N x 6N, kg and kg m^2
-  /// Section-resolved mass integrals int rho N_A^T N_B dV (A, B = global x, y, z), 6N x 6N each;
-  /// sum of the diagonal ones = mass_all. For the floating-frame quadratic invariants.
-  std::array<std::array<SparseMatrix, 3>, 3> component_mass_all;
-  /// Position moments: column 3k+A holds p with p^T u = int rho x_k u_A dV (6N x 9).
-  Eigen::MatrixXd position_moment_all;
-
-  SparseMatrix transform;           ///< T: 6N x n_free
-  std::vector<bool> supported_dof;  ///< per nodal DOF: removed by a support
-  std::vector<int> master_of;       ///< per node: itself, or its master node for a rigid-link slave
-
-  int all_dofs() const { return 6 * static_cast<int>(nodes.size()); }
-  int free_dofs() const { return static_cast<int>(transform.cols()); }
-  /// The free-DOF stiffness and mass T^T K T, T^T M T.
-  SparseMatrix stiffness() const;
-  SparseMatrix mass() const;
-
-  /// Index of the node at `at` within `tolerance` (m), or -1.
-  int find_node(const Vec3& at, double tolerance) const;
-
-  /// Rigid-body motions of all nodes about the component origin (6N x 6): columns are unit
-  /// translations x, y, z and unit rotations about x, y, z.
-  Eigen::MatrixXd rigid_body_field() const;
-};
-
 /// Build the model; nvh::Error (with the input location) for a point that is not on the model, a
 /// support on a rigid-link end, and similar.
-BeamModel build_beam_model(const Component& component);
+FeModel build_beam_model(const Component& component);
 
 }  // namespace nvh::condense

@@ -14,7 +14,7 @@ namespace {
 const char* kDofNames[6] = {"x", "y", "z", "rx", "ry", "rz"};
 
 /// Node index of each named point; error located at the point's entry if it is not on the model.
-std::vector<int> locate(const BeamModel& model, const std::vector<NamedPoint>& points, double tolerance,
+std::vector<int> locate(const FeModel& model, const std::vector<NamedPoint>& points, double tolerance,
                         const std::string& what) {
   std::vector<int> nodes;
   for (const NamedPoint& p : points) {
@@ -35,7 +35,7 @@ std::vector<int> locate(const BeamModel& model, const std::vector<NamedPoint>& p
   return nodes;
 }
 
-PointSet point_set(const BeamModel& model, const std::vector<NamedPoint>& points,
+PointSet point_set(const FeModel& model, const std::vector<NamedPoint>& points,
                    const std::vector<int>& nodes, const Eigen::MatrixXd& shapes) {
   PointSet set;
   set.position.resize(static_cast<Eigen::Index>(points.size()), 3);
@@ -49,7 +49,7 @@ PointSet point_set(const BeamModel& model, const std::vector<NamedPoint>& points
 
 /// Boundary DOF of Craig-Bampton and Guyan: the free DOF of each interface node (its master's for the
 /// end of a rigid link), each once, in the order of the file; named "<interface>.<dof>".
-void collect_boundary(const BeamModel& model, const std::vector<NamedPoint>& interfaces,
+void collect_boundary(const FeModel& model, const std::vector<NamedPoint>& interfaces,
                       const std::vector<int>& nodes, std::vector<int>& dofs, std::vector<std::string>& names) {
   // Free index of each master DOF: the identity entries of T.
   std::vector<int> free_of_dof(model.all_dofs(), -1);
@@ -102,7 +102,7 @@ void check_reduction(const Component& component) {
   }
 }
 
-int count_rigid_body_modes(const BeamModel& model) {
+int count_rigid_body_modes(const FeModel& model) {
   const Eigen::MatrixXd R = model.rigid_body_field();
   std::vector<int> rows;
   for (int d = 0; d < model.all_dofs(); ++d)
@@ -117,13 +117,13 @@ int count_rigid_body_modes(const BeamModel& model) {
 
 Superelement condense_component(const Component& c, EigenBackend backend, const Logger& log,
                                 StageTimer* timer, const EigenProgress& progress) {
-  const BeamModel model = build_beam_model(c);
+  const FeModel model = build_beam_model(c);
   const std::vector<int> interface_nodes = locate(model, c.interfaces, c.point_tolerance, "interface");
   const std::vector<int> observer_nodes = locate(model, c.observers, c.point_tolerance, "observation");
   const SparseMatrix K = model.stiffness();
   const SparseMatrix M = model.mass();
   log.info("model: " + std::to_string(model.nodes.size()) + " nodes, " + std::to_string(model.element_count) +
-           " beam elements, " + std::to_string(model.free_dofs()) + " free DOF");
+           " " + model.element_kind + ", " + std::to_string(model.free_dofs()) + " free DOF");
   if (timer) timer->lap("assemble");
 
   ReductionInput in;

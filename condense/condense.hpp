@@ -1,5 +1,5 @@
 #pragma once
-// The condense pipeline as a library call: Component -> BeamModel -> reduction -> invariants ->
+// The condense pipeline as a library call: Component -> FeModel -> reduction -> invariants ->
 // Superelement. The CLI (main.cpp) is a thin layer over this; tests and other tools call it directly.
 #include <optional>
 
@@ -31,6 +31,6 @@ Superelement condense_component(const Component& component, EigenBackend backend
                                 StageTimer* timer = nullptr, const EigenProgress& progress = {});
 
 /// Number of rigid-body modes the supports leave: 6 - rank of the rigid-body field on the supported DOF.
-int count_rigid_body_modes(const BeamModel& model);
+int count_rigid_body_modes(const FeModel& model);
 
 }  // namespace nvh::condense

@@ -20,13 +20,13 @@ RigidBodyInertia rigid_body_inertia(const Eigen::Matrix<double, 6, 6>& rigid_mas
   return r;
 }
 
-RigidBodyInertia rigid_body_inertia(const BeamModel& model) {
+RigidBodyInertia rigid_body_inertia(const FeModel& model) {
   const Eigen::MatrixXd R = model.rigid_body_field();
   const Eigen::Matrix<double, 6, 6> rigid_mass = R.transpose() * (model.mass_all * R);
   return rigid_body_inertia(rigid_mass);
 }
 
-ModalInvariants modal_invariants(const BeamModel& model, const Eigen::MatrixXd& shapes) {
+ModalInvariants modal_invariants(const FeModel& model, const Eigen::MatrixXd& shapes) {
   const Eigen::MatrixXd R = model.rigid_body_field();
   const Eigen::MatrixXd MS = model.mass_all * shapes;  // 6N x n
   ModalInvariants inv;

@@ -17,7 +17,7 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "condense/beam_model.hpp"
+#include "condense/fe_model.hpp"
 
 namespace nvh::condense {
 
@@ -42,9 +42,9 @@ struct ModalInvariants {
 RigidBodyInertia rigid_body_inertia(const Eigen::Matrix<double, 6, 6>& rigid_mass);
 
 /// The rigid-body inertia of a beam model, from its consistent mass matrix (supports ignored).
-RigidBodyInertia rigid_body_inertia(const BeamModel& model);
+RigidBodyInertia rigid_body_inertia(const FeModel& model);
 
 /// Modal invariants for nodal shapes `shapes` (6N x n, i.e. T * basis).
-ModalInvariants modal_invariants(const BeamModel& model, const Eigen::MatrixXd& shapes);
+ModalInvariants modal_invariants(const FeModel& model, const Eigen::MatrixXd& shapes);
 
 }  // namespace nvh::condense

@@ -31,7 +31,7 @@ using namespace testing;
 /// Frequencies (Hz) of the sub-problem on nodal DOF `dofs` (0..5 = ux uy uz rx ry rz) of every node,
 /// with the listed (node, dof) pairs held. A straight beam along x decouples exactly into these
 /// planes, so this isolates one family of modes. Solved densely by Eigen (not our eigen-solver).
-std::vector<double> plane_frequencies(const BeamModel& model, const std::vector<int>& dofs,
+std::vector<double> plane_frequencies(const FeModel& model, const std::vector<int>& dofs,
                                       const std::vector<std::pair<int, int>>& held) {
   std::vector<int> keep;
   for (int n = 0; n < static_cast<int>(model.nodes.size()); ++n) {
@@ -145,7 +145,7 @@ TEST_F(SlenderBeam, AxialAndTorsionalModesMatchTheRodFormulas) {
   // Linear axial/torsion interpolation with consistent mass over-estimates by about (k h)^2 / 24:
   // 100 elements keep the 3rd mode within 0.03 %.
   Component c = straight_beam(L, section, 100);
-  const BeamModel model = build_beam_model(c);
+  const FeModel model = build_beam_model(c);
   const double c_axial = std::sqrt(steel.E / steel.rho);
   const double c_torsion = std::sqrt(steel.G() * section.J / (steel.rho * (section.Iy + section.Iz)));
   const std::vector<double> axial = plane_frequencies(model, {0}, {{0, 0}});
@@ -167,7 +167,7 @@ class ThickBeam : public ::testing::Test {
   // Simply supported in the x-y plane: v = 0 at both ends (rotation free).
   std::vector<double> ss_frequencies(const BeamSection& s) {
     const Component c = straight_beam(L, s, elements);
-    const BeamModel model = build_beam_model(c);
+    const FeModel model = build_beam_model(c);
     return plane_frequencies(model, {1, 5}, {{0, 1}, {elements, 1}});
   }
 };
@@ -215,7 +215,7 @@ TEST_F(ThickBeam, BothBendingPlanesAgreeForASquareSection) {
   // The x-z plane uses ry = -dw/dx: a sign error there would show up as a wrong frequency.
   const BeamSection s = rectangle(h, h, 5.0 / 6.0);
   const Component c = straight_beam(L, s, elements);
-  const BeamModel model = build_beam_model(c);
+  const FeModel model = build_beam_model(c);
   const std::vector<double> xy = plane_frequencies(model, {1, 5}, {{0, 1}, {elements, 1}});
   const std::vector<double> xz = plane_frequencies(model, {2, 4}, {{0, 2}, {elements, 2}});
   for (int n = 0; n < 4; ++n) EXPECT_NEAR(xz[n] / xy[n], 1.0, 1e-12);

@@ -213,7 +213,7 @@ TEST(Invariants, PositionMomentsReproduceTheSecondMoments) {
   // int rho x_k x_l dV from the position moments applied to the field u = x_k e_l... is not a DOF
   // field in general; but applied to a rigid translation e_l they give int rho x_k dV = m c_k.
   const Component c = crank_throw();
-  const BeamModel model = build_beam_model(c);
+  const FeModel model = build_beam_model(c);
   const Eigen::MatrixXd R = model.rigid_body_field();
   const HandInertia h = hand_calculation(c);
   for (int k = 0; k < 3; ++k)

@@ -37,7 +37,7 @@ Component frame(int elements_per_segment = 16) {
 
 /// Elastic frequencies of the unreduced free model, Hz (the 6 rigid-body modes dropped).
 Eigen::VectorXd unreduced_hz(const Component& c) {
-  const BeamModel model = build_beam_model(c);
+  const FeModel model = build_beam_model(c);
   const Eigen::MatrixXd K(model.stiffness()), M(model.mass());
   Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> eig(K, M);
   const Eigen::VectorXd lambda = eig.eigenvalues().tail(K.rows() - 6).cwiseMax(0.0);

@@ -1,0 +1,82 @@
+#include "condense/fe_model.hpp"
+
+#include <Eigen/Geometry>
+#include <limits>
+
+namespace nvh::condense {
+
+int FeModel::find_node(const Vec3& at, double tolerance) const {
+  const Eigen::Vector3d p(at[0], at[1], at[2]);
+  int best = -1;
+  double best_distance = tolerance;
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    const double d = (nodes[i] - p).norm();
+    if (d <= best_distance) {
+      best = static_cast<int>(i);
+      best_distance = d;
+    }
+  }
+  return best;
+}
+
+int FeModel::nearest_node(const Vec3& at) const {
+  return find_node(at, std::numeric_limits<double>::infinity());
+}
+
+SparseMatrix FeModel::stiffness() const {
+  return SparseMatrix(transform.transpose() * stiffness_all * transform);
+}
+
+SparseMatrix FeModel::mass() const {
+  return SparseMatrix(transform.transpose() * mass_all * transform);
+}
+
+Eigen::MatrixXd FeModel::rigid_body_field() const {
+  Eigen::MatrixXd r = Eigen::MatrixXd::Zero(all_dofs(), 6);
+  for (std::size_t n = 0; n < nodes.size(); ++n) {
+    const Eigen::Vector3d& x = nodes[n];
+    for (int k = 0; k < 3; ++k) {
+      r(6 * n + k, k) = 1.0;
+      // Unit rotation about axis k: u = e_k x x, theta = e_k.
+      const Eigen::Vector3d u = Eigen::Vector3d::Unit(k).cross(x);
+      r.block<3, 1>(6 * n, 3 + k) = u;
+      r(6 * n + 3 + k, 3 + k) = 1.0;
+    }
+  }
+  return r;
+}
+
+void build_transform(FeModel& model) {
+  const int n_all = model.all_dofs();
+  const int n_nodes = static_cast<int>(model.nodes.size());
+  std::vector<int> free_index(n_all, -1);
+  int n_free = 0;
+  for (int n = 0; n < n_nodes; ++n) {
+    if (model.master_of[n] != n) continue;
+    for (int d = 0; d < 6; ++d) {
+      const int dof = 6 * n + d;
+      if (!model.supported_dof[dof] && !model.inactive_dof[dof]) free_index[dof] = n_free++;
+    }
+  }
+  std::vector<Eigen::Triplet<double>> tt;
+  for (int n = 0; n < n_nodes; ++n) {
+    const int m = model.master_of[n];
+    auto add = [&](int row, int master_dof, double value) {
+      const int col = free_index[master_dof];
+      if (col >= 0 && value != 0.0) tt.emplace_back(row, col, value);
+    };
+    for (int d = 0; d < 6; ++d) add(6 * n + d, 6 * m + d, 1.0);
+    if (m != n) {
+      // theta x r = -r x theta: u_s,i += sum_j (-[r]_x)_{ij} theta_j.
+      const Eigen::Vector3d r = model.nodes[n] - model.nodes[m];
+      Eigen::Matrix3d rx;
+      rx << 0, -r.z(), r.y(), r.z(), 0, -r.x(), -r.y(), r.x(), 0;
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) add(6 * n + i, 6 * m + 3 + j, -rx(i, j));
+    }
+  }
+  model.transform.resize(n_all, n_free);
+  model.transform.setFromTriplets(tt.begin(), tt.end());
+}
+
+}  // namespace nvh::condense
