@@ -204,24 +204,8 @@ FeModel build_beam_model(const Component& c) {
   for (int A = 0; A < 3; ++A)
     for (int B = 0; B < 3; ++B) model.component_mass_all[A][B] = from_triplets(n_all, ct[A][B]);
 
-  // --- supports ---
-  model.supported_dof.assign(n_all, false);
-  for (const Support& sup : c.supports) {
-    const int n = model.find_node(sup.at, tol);
-    if (n < 0) {
-      throw Error("the support at " + format_point(sup.at) + " is not on the model", sup.where,
-                  sup.path + ".at");
-    }
-    if (model.master_of[n] != n) {
-      throw Error("the support at " + format_point(sup.at) +
-                      " is on the end of a rigid link; support its master station instead",
-                  sup.where, sup.path + ".at");
-    }
-    for (int d = 0; d < 6; ++d)
-      if (sup.dofs[d]) model.supported_dof[6 * n + d] = true;
-  }
-
   model.inactive_dof.assign(n_all, false);
+  apply_supports(model, c.supports, tol);
   build_transform(model);
   return model;
 }

@@ -57,9 +57,10 @@ struct RigidLink {
   std::string path;  ///< e.g. "beam.rigid[1]"
 };
 
-/// Supported degrees of freedom at a point: mask over x y z rx ry rz.
+/// Supported degrees of freedom at a point, or at every node inside a box: mask over x y z rx ry rz.
 struct Support {
   Vec3 at{};
+  std::optional<std::array<double, 6>> box;  ///< xmin ymin zmin xmax ymax zmax (m); replaces `at`
   std::array<bool, 6> dofs{};
   SourceLocation where;
   std::string path;  ///< e.g. "fix[1]"
@@ -96,12 +97,21 @@ struct BeamGeometry {
   SourceLocation where;
 };
 
+/// A 3D solid component from a mesh made elsewhere (Abaqus/CalculiX .inp: C3D4, C3D10, C3D8, C3D20).
+struct VolumeGeometry {
+  std::filesystem::path mesh;  ///< resolved against the component file's directory
+  std::string material;
+  bool mass_like_calculix = false;  ///< integrate the mass with the stiffness rule, as CalculiX does
+  SourceLocation where;
+};
+
 struct Component {
   std::string name;
-  std::string kind;  ///< "beam" (volume models: a later issue)
+  std::string kind;  ///< "beam" | "volume"
   std::filesystem::path file;
   std::map<std::string, Material> materials;
   BeamGeometry beam;
+  VolumeGeometry volume;
   std::vector<Support> supports;
   std::vector<NamedPoint> interfaces;
   std::vector<NamedPoint> observers;

@@ -164,13 +164,31 @@ ReductionSettings read_reduction(const Table& t) {
   return r;
 }
 
+void read_volume(const Table& t, Component& c) {
+  VolumeGeometry& v = c.volume;
+  v.where = t.location("mesh");
+  const std::string mesh = t.string("mesh");
+  v.mesh = std::filesystem::path(mesh).is_absolute() ? std::filesystem::path(mesh)
+                                                      : c.file.parent_path() / mesh;
+  const std::string ext = v.mesh.extension().string();
+  if (ext != ".inp") {
+    t.fail("mesh", "expected an Abaqus/CalculiX mesh (.inp with C3D4, C3D10, C3D8 or C3D20 elements), got \"" +
+                       mesh + "\"; gmsh geometry and .msh input come with the gmsh issue");
+  }
+  if (!std::filesystem::exists(v.mesh)) t.fail("mesh", "the mesh file " + v.mesh.string() + " does not exist");
+  v.material = t.string("material");
+  if (!c.materials.count(v.material)) t.fail("material", "unknown material \"" + v.material + "\"");
+  v.mass_like_calculix = t.optional_choice("mass_quadrature", {"exact", "stiffness"}).value_or("exact") == "stiffness";
+  t.finish();
+}
+
 Component read(const input::Document& doc, const std::filesystem::path& file) {
   Component c;
   c.file = file;
   const Table root = doc.root();
   const Table comp = root.table("component");
   c.name = comp.string("name");
-  c.kind = comp.choice("kind", {"beam"});
+  c.kind = comp.choice("kind", {"beam", "volume"});
   comp.finish();
 
   const Table materials = root.table("material");
@@ -179,13 +197,27 @@ Component read(const input::Document& doc, const std::filesystem::path& file) {
   if (c.materials.empty()) materials.fail("expected at least one [material.NAME] table");
   materials.finish();
 
-  read_beam(root.table("beam"), c);
+  if (c.kind == "volume") {
+    read_volume(root.table("volume"), c);
+  } else {
+    read_beam(root.table("beam"), c);
+  }
 
   for (const Table& ft : root.table_array("fix")) {
     Support s;
-    s.where = ft.location("at");
     s.path = ft.path();
-    s.at = ft.vec3("at");
+    if (ft.has("box") || c.kind == "volume") {
+      s.where = ft.location("box");
+      const std::vector<double> box = ft.numbers("box");
+      if (box.size() != 6 || box[0] > box[3] || box[1] > box[4] || box[2] > box[5]) {
+        ft.fail("box", "expected [xmin, ymin, zmin, xmax, ymax, zmax] in m with min <= max");
+      }
+      s.box = std::array<double, 6>{box[0], box[1], box[2], box[3], box[4], box[5]};
+      if (ft.has("at")) ft.fail("at", "give either at (one node) or box (every node inside), not both");
+    } else {
+      s.where = ft.location("at");
+      s.at = ft.vec3("at");
+    }
     const std::string dofs = ft.string("dofs");
     try {
       s.dofs = parse_dof_list(dofs);
@@ -196,6 +228,10 @@ Component read(const input::Document& doc, const std::filesystem::path& file) {
     c.supports.push_back(s);
   }
   c.interfaces = read_points(root, "interface");
+  if (c.kind == "volume" && !c.interfaces.empty()) {
+    root.fail("interface", "interface points of volume components need couplings to a surface (RBE2/RBE3), "
+                           "which are not available yet; use method = \"modal\" and [[observe]] points");
+  }
   c.observers = read_points(root, "observe");
   c.reduction = read_reduction(root.table("reduction"));
   root.finish();

@@ -7,6 +7,7 @@
 
 #include "condense/beam_model.hpp"
 #include "condense/reduction.hpp"
+#include "condense/volume_model.hpp"
 
 namespace nvh::condense {
 namespace {
@@ -117,9 +118,16 @@ int count_rigid_body_modes(const FeModel& model) {
 
 Superelement condense_component(const Component& c, EigenBackend backend, const Logger& log,
                                 StageTimer* timer, const EigenProgress& progress) {
-  const FeModel model = build_beam_model(c);
+  const bool volume = c.kind == "volume";
+  const FeModel model = volume ? build_volume_model(c) : build_beam_model(c);
   const std::vector<int> interface_nodes = locate(model, c.interfaces, c.point_tolerance, "interface");
-  const std::vector<int> observer_nodes = locate(model, c.observers, c.point_tolerance, "observation");
+  // Observation points of a solid snap to the nearest node (a beam's must lie on a node).
+  std::vector<int> observer_nodes;
+  if (volume) {
+    for (const NamedPoint& p : c.observers) observer_nodes.push_back(model.nearest_node(p.at));
+  } else {
+    observer_nodes = locate(model, c.observers, c.point_tolerance, "observation");
+  }
   const SparseMatrix K = model.stiffness();
   const SparseMatrix M = model.mass();
   log.info("model: " + std::to_string(model.nodes.size()) + " nodes, " + std::to_string(model.element_count) +

@@ -2,6 +2,9 @@
 
 #include <Eigen/Geometry>
 #include <limits>
+#include <sstream>
+
+#include "common/error.hpp"
 
 namespace nvh::condense {
 
@@ -44,6 +47,46 @@ Eigen::MatrixXd FeModel::rigid_body_field() const {
     }
   }
   return r;
+}
+
+namespace {
+std::string format_point(const Vec3& p) {
+  std::ostringstream s;
+  s << "[" << p[0] << ", " << p[1] << ", " << p[2] << "]";
+  return s.str();
+}
+}  // namespace
+
+void apply_supports(FeModel& model, const std::vector<Support>& supports, double tolerance) {
+  model.supported_dof.assign(model.all_dofs(), false);
+  for (const Support& sup : supports) {
+    std::vector<int> held;
+    if (sup.box) {
+      const auto& b = *sup.box;
+      for (int n = 0; n < static_cast<int>(model.nodes.size()); ++n) {
+        const Eigen::Vector3d& x = model.nodes[n];
+        bool inside = true;
+        for (int k = 0; k < 3; ++k) inside = inside && x(k) >= b[k] - tolerance && x(k) <= b[3 + k] + tolerance;
+        if (inside && model.master_of[n] == n && !model.inactive_dof[6 * n]) held.push_back(n);
+      }
+      if (held.empty()) throw Error("the support box holds no node of the model", sup.where, sup.path + ".box");
+    } else {
+      const int n = model.find_node(sup.at, tolerance);
+      if (n < 0) {
+        throw Error("the support at " + format_point(sup.at) + " is not on the model", sup.where,
+                    sup.path + ".at");
+      }
+      if (model.master_of[n] != n) {
+        throw Error("the support at " + format_point(sup.at) +
+                        " is on the end of a rigid link; support its master station instead",
+                    sup.where, sup.path + ".at");
+      }
+      held.push_back(n);
+    }
+    for (int n : held)
+      for (int d = 0; d < 6; ++d)
+        if (sup.dofs[d]) model.supported_dof[6 * n + d] = true;
+  }
 }
 
 void build_transform(FeModel& model) {

@@ -53,6 +53,11 @@ struct FeModel {
   Eigen::MatrixXd rigid_body_field() const;
 };
 
+/// Mark supported DOF: a support `at` a point holds that node (error located at the entry if no node
+/// is there, or if it is a rigid-link end); a `box` holds every node inside (error if none is). Sets
+/// `supported_dof`; `inactive_dof` must be sized already.
+void apply_supports(FeModel& model, const std::vector<Support>& supports, double tolerance);
+
 /// Build `model.transform` from master_of, supported_dof and inactive_dof: the free DOF are the
 /// active, unsupported DOF of master nodes; a slave follows its master, u_s = u_m + theta_m x r.
 void build_transform(FeModel& model);

@@ -22,9 +22,10 @@ constexpr const char* kDescription =
     R"(condense - reduce a component to a modal superelement (step 1 of 3: condense -> solve -> postproc)
 
 Reads a component file (TOML: materials, a beam of stations and sections, point masses, rigid links,
-supports, interface and observation points, and a [reduction] table), builds its finite-element model
-(3D Timoshenko beams), solves its eigenproblem (shift-invert Lanczos on a sparse Cholesky factorization)
-and reduces it:
+supports, interface and observation points, and a [reduction] table; or, for kind = "volume", a solid
+mesh from an Abaqus/CalculiX .inp file), builds its finite-element model (3D Timoshenko beams, or
+C3D4/C3D10/C3D8/C3D20 solids), solves its eigenproblem (shift-invert Lanczos on a sparse Cholesky
+factorization) and reduces it:
   modal          free-free (or supported) normal modes up to fmax; rigid-body modes left to solve's
                  floating frame of reference
   craig-bampton  interface DOF + constraint modes + fixed-interface modes up to fmax; with
