@@ -154,7 +154,11 @@ Support support(const Vec3& at, const std::string& mask) {
 }
 
 NamedPoint point(const std::string& name, const Vec3& at) {
-  return NamedPoint{name, at, {}, name};
+  NamedPoint p;
+  p.name = name;
+  p.at = at;
+  p.path = name;
+  return p;
 }
 
 /// The free L-frame of test_reduction.cpp: two round bars (d = 30 and 20 mm, kappa 0.9), 16 elements

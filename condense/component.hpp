@@ -72,6 +72,9 @@ struct NamedPoint {
   Vec3 at{};
   SourceLocation where;
   std::string path;  ///< e.g. "interface[3]"
+  // Volume interfaces only: the coupling of the point to a surface of the mesh.
+  std::string surface;                       ///< node set (*NSET) of the mesh, upper case; or ...
+  std::optional<std::array<double, 6>> box;  ///< ... the nodes inside a box, m
 };
 
 enum class ReductionMethod { kModal, kCraigBampton, kGuyan };

@@ -1,5 +1,6 @@
 #include "condense/component_reader.hpp"
 
+#include <cctype>
 #include <cmath>
 #include <set>
 #include <sstream>
@@ -125,7 +126,33 @@ void read_beam(const Table& t, Component& c) {
   t.finish();
 }
 
-std::vector<NamedPoint> read_points(const Table& root, const std::string& key) {
+/// [xmin, ymin, zmin, xmax, ymax, zmax] in m.
+std::array<double, 6> read_box(const Table& t, const std::string& key) {
+  const std::vector<double> box = t.numbers(key);
+  if (box.size() != 6 || box[0] > box[3] || box[1] > box[4] || box[2] > box[5]) {
+    t.fail(key, "expected [xmin, ymin, zmin, xmax, ymax, zmax] in m with min <= max");
+  }
+  return {box[0], box[1], box[2], box[3], box[4], box[5]};
+}
+
+/// A volume interface: a point coupled rigidly (RBE2) to a node set or the nodes in a box.
+void read_coupling(const Table& pt, NamedPoint& p) {
+  const auto surface = pt.optional_string("surface");
+  if (surface) {
+    p.surface = *surface;
+    for (char& ch : p.surface) ch = static_cast<char>(std::toupper(static_cast<unsigned char>(ch)));
+  }
+  if (pt.has("box")) p.box = read_box(pt, "box");
+  if (!surface == !p.box) {
+    pt.fail("a volume interface couples to a surface: give surface = \"NSET name\" or box = [...], one of them");
+  }
+  const std::string coupling = pt.optional_choice("coupling", {"rbe2", "rbe3"}).value_or("rbe2");
+  if (coupling == "rbe3") {
+    pt.fail("coupling", "the distributing coupling (rbe3) is not available yet; use coupling = \"rbe2\" (rigid)");
+  }
+}
+
+std::vector<NamedPoint> read_points(const Table& root, const std::string& key, bool couplings = false) {
   std::vector<NamedPoint> points;
   std::set<std::string> names;
   for (const Table& pt : root.table_array(key)) {
@@ -137,6 +164,7 @@ std::vector<NamedPoint> read_points(const Table& root, const std::string& key) {
     if (!names.insert(p.name).second)
       pt.fail("name", "the name \"" + p.name + "\" is used twice in [[" + key + "]]");
     p.at = pt.vec3("at");
+    if (couplings) read_coupling(pt, p);
     pt.finish();
     points.push_back(p);
   }
@@ -208,11 +236,7 @@ Component read(const input::Document& doc, const std::filesystem::path& file) {
     s.path = ft.path();
     if (ft.has("box") || c.kind == "volume") {
       s.where = ft.location("box");
-      const std::vector<double> box = ft.numbers("box");
-      if (box.size() != 6 || box[0] > box[3] || box[1] > box[4] || box[2] > box[5]) {
-        ft.fail("box", "expected [xmin, ymin, zmin, xmax, ymax, zmax] in m with min <= max");
-      }
-      s.box = std::array<double, 6>{box[0], box[1], box[2], box[3], box[4], box[5]};
+      s.box = read_box(ft, "box");
       if (ft.has("at")) ft.fail("at", "give either at (one node) or box (every node inside), not both");
     } else {
       s.where = ft.location("at");
@@ -227,11 +251,7 @@ Component read(const input::Document& doc, const std::filesystem::path& file) {
     ft.finish();
     c.supports.push_back(s);
   }
-  c.interfaces = read_points(root, "interface");
-  if (c.kind == "volume" && !c.interfaces.empty()) {
-    root.fail("interface", "interface points of volume components need couplings to a surface (RBE2/RBE3), "
-                           "which are not available yet; use method = \"modal\" and [[observe]] points");
-  }
+  c.interfaces = read_points(root, "interface", c.kind == "volume");
   c.observers = read_points(root, "observe");
   c.reduction = read_reduction(root.table("reduction"));
   root.finish();

@@ -120,7 +120,9 @@ Superelement condense_component(const Component& c, EigenBackend backend, const 
                                 StageTimer* timer, const EigenProgress& progress) {
   const bool volume = c.kind == "volume";
   const FeModel model = volume ? build_volume_model(c) : build_beam_model(c);
-  const std::vector<int> interface_nodes = locate(model, c.interfaces, c.point_tolerance, "interface");
+  // A volume's interfaces are its coupling nodes; a beam's must lie on nodes of the beam.
+  const std::vector<int> interface_nodes =
+      volume ? model.coupling_nodes : locate(model, c.interfaces, c.point_tolerance, "interface");
   // Observation points of a solid snap to the nearest node (a beam's must lie on a node).
   std::vector<int> observer_nodes;
   if (volume) {

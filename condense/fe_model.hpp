@@ -36,6 +36,7 @@ struct FeModel {
   std::vector<bool> supported_dof;  ///< per nodal DOF: held by a support
   std::vector<bool> inactive_dof;   ///< per nodal DOF: not part of the model (rotations of solid nodes)
   std::vector<int> master_of;       ///< per node: itself, or its master node for a rigid-link slave
+  std::vector<int> coupling_nodes;  ///< volume models: the coupling node of each interface, in order
 
   int all_dofs() const { return 6 * static_cast<int>(nodes.size()); }
   int free_dofs() const { return static_cast<int>(transform.cols()); }

@@ -1,5 +1,6 @@
 #include "condense/volume_model.hpp"
 
+#include <Eigen/SVD>
 #include <map>
 
 #include "common/error.hpp"
@@ -7,6 +8,67 @@
 #include "condense/solid_element.hpp"
 
 namespace nvh::condense {
+
+namespace {
+
+/// Rigid couplings (RBE2): the coupling node of interface i (node first_coupling + i, all 6 DOF
+/// active) becomes the master of the mesh nodes of its surface, u_s = u_m + theta_m x r. The coupling
+/// adds no mass of its own; its rotations get inertia through the slaves, so a surface needs at least
+/// three nodes that are not on one line.
+void add_couplings(FeModel& model, const Mesh& mesh, const std::vector<bool>& used,
+                   const std::vector<NamedPoint>& interfaces, int first_coupling) {
+  std::vector<int> coupled_by(model.nodes.size(), -1);
+  for (std::size_t i = 0; i < interfaces.size(); ++i) {
+    const NamedPoint& p = interfaces[i];
+    const int master = first_coupling + static_cast<int>(i);
+    std::vector<int> surface;
+    if (!p.surface.empty()) {
+      const auto it = mesh.node_sets.find(p.surface);
+      if (it == mesh.node_sets.end()) {
+        std::string sets;
+        for (const auto& [name, nodes] : mesh.node_sets) sets += (sets.empty() ? "" : ", ") + name;
+        throw Error("the node set \"" + p.surface + "\" is not in the mesh " + mesh.file +
+                        (sets.empty() ? " (it has no *NSET)" : " (its node sets: " + sets + ")"),
+                    p.where, p.path + ".surface");
+      }
+      for (int n : it->second)
+        if (used[n]) surface.push_back(n);
+    } else {
+      const auto& b = *p.box;
+      for (int n = 0; n < first_coupling; ++n) {
+        const Eigen::Vector3d& x = model.nodes[n];
+        bool inside = used[n];
+        for (int k = 0; k < 3; ++k) inside = inside && x(k) >= b[k] - 1e-6 && x(k) <= b[3 + k] + 1e-6;
+        if (inside) surface.push_back(n);
+      }
+    }
+    // At least three nodes not on one line, or the coupling's rotations would have no stiffness.
+    Eigen::MatrixXd centred(3, surface.size());
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    for (int n : surface) mean += model.nodes[n] / static_cast<double>(surface.size());
+    for (std::size_t j = 0; j < surface.size(); ++j) centred.col(j) = model.nodes[surface[j]] - mean;
+    const Eigen::JacobiSVD<Eigen::MatrixXd> svd(centred);
+    const double scale = surface.empty() ? 0.0 : svd.singularValues()(0);
+    if (surface.size() < 3 || svd.singularValues().size() < 2 || svd.singularValues()(1) <= 1e-9 * scale) {
+      throw Error("the coupling of interface \"" + p.name + "\" holds " + std::to_string(surface.size()) +
+                      " mesh nodes; it needs at least three that are not on one line",
+                  p.where, p.path + (p.surface.empty() ? ".box" : ".surface"));
+    }
+    for (int n : surface) {
+      if (coupled_by[n] >= 0) {
+        throw Error("mesh node " + std::to_string(mesh.node_ids[n]) + " is coupled to two interfaces (\"" +
+                        interfaces[coupled_by[n]].name + "\" and \"" + p.name + "\")",
+                    p.where, p.path);
+      }
+      coupled_by[n] = static_cast<int>(i);
+      model.master_of[n] = master;
+    }
+    for (int d = 0; d < 6; ++d) model.inactive_dof[6 * master + d] = false;
+    model.coupling_nodes.push_back(master);
+  }
+}
+
+}  // namespace
 
 FeModel build_volume_model(const Component& c) {
   std::vector<std::string> skipped;
@@ -21,6 +83,12 @@ FeModel build_volume_model(const Component& c) {
 
   FeModel model;
   model.nodes = mesh.nodes;
+  const int mesh_nodes = static_cast<int>(model.nodes.size());
+  std::vector<bool> used(mesh_nodes, false);
+  for (const MeshElement& e : mesh.elements)
+    for (int n : e.nodes) used[n] = true;
+  // One coupling node per interface, after the mesh nodes (see add_couplings).
+  for (const NamedPoint& p : c.interfaces) model.nodes.emplace_back(p.at[0], p.at[1], p.at[2]);
   const int n_nodes = static_cast<int>(model.nodes.size());
   const int n_all = model.all_dofs();
   model.master_of.resize(n_nodes);
@@ -82,6 +150,7 @@ FeModel build_volume_model(const Component& c) {
   for (int a = 0; a < 3; ++a)
     for (int b = 0; b < 3; ++b) model.component_mass_all[a][b] = assemble(ct[a][b]);
 
+  add_couplings(model, mesh, used, c.interfaces, mesh_nodes);
   apply_supports(model, c.supports, c.point_tolerance);
   build_transform(model);
   return model;

@@ -57,7 +57,11 @@ inline Support fixed(const Vec3& at, const std::string& dofs_mask = "111111") {
 }
 
 inline NamedPoint point(const std::string& name, const Vec3& at) {
-  return NamedPoint{name, at, {}, name};
+  NamedPoint p;
+  p.name = name;
+  p.at = at;
+  p.path = name;
+  return p;
 }
 
 }  // namespace nvh::condense::testing

@@ -173,6 +173,94 @@ TEST(Nafems, FV12FreeThinSquarePlateWithinOnePercent) {
 }
 
 // ---------------------------------------------------------------------------------------------
+// Interfaces of solids: rigid (RBE2) couplings of a point to a surface, and Craig-Bampton on them.
+
+class CoupledBar : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("nvh_coupled_" + std::to_string(::getpid()));
+    fs::create_directories(dir_);
+    testing::BoxMesher mesher({0.4, 0.04, 0.04}, {10, 2, 2});
+    Mesh mesh = mesher.hex20();
+    for (int n = 0; n < static_cast<int>(mesh.nodes.size()); ++n) {
+      if (mesh.nodes[n].x() < 1e-12) mesh.node_sets["LEFT"].push_back(n);
+      if (mesh.nodes[n].x() > 0.4 - 1e-12) mesh.node_sets["RIGHT"].push_back(n);
+    }
+    std::ofstream out(dir_ / "bar.inp");
+    write_abaqus_mesh(mesh, out);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  /// The free bar with couplings at both end faces, 10 mm outside them on the axis.
+  Component bar() const {
+    Component c;
+    c.name = "bar";
+    c.kind = "volume";
+    c.materials["steel"] = Material{"steel", 210e9, 0.3, 7850.0};
+    c.volume.mesh = dir_ / "bar.inp";
+    c.volume.material = "steel";
+    NamedPoint left, right;
+    left.name = "left";
+    left.at = {-0.01, 0.02, 0.02};
+    left.surface = "LEFT";
+    right.name = "right";
+    right.at = {0.41, 0.02, 0.02};
+    right.box = std::array<double, 6>{0.4, -1, -1, 0.4, 1, 1};
+    c.interfaces = {left, right};
+    return c;
+  }
+  fs::path dir_;
+};
+
+TEST_F(CoupledBar, CraigBamptonMatchesTheFullModelWithinPointOnePercent) {
+  Component full = bar();
+  full.reduction.method = ReductionMethod::kModal;
+  full.reduction.modes = 10;
+  const Superelement modal = condense_component(full, EigenBackend::kSpectra, kQuiet);
+  EXPECT_EQ(modal.rigid_body_modes_removed, 6);  // the couplings add no stiffness against rigid motion
+  EXPECT_NEAR(modal.inertia.mass / (7850.0 * 0.4 * 0.04 * 0.04), 1.0, 1e-12);  // nor mass
+
+  Component cb = bar();
+  cb.reduction.method = ReductionMethod::kCraigBampton;
+  cb.reduction.fmax_hz = 5.0 * modal.frequency_hz(9);
+  const Superelement reduced = condense_component(cb, EigenBackend::kSpectra, kQuiet);
+  ASSERT_GE(reduced.frequency_hz.size(), 10);
+  double worst = 0.0;
+  for (int i = 0; i < 10; ++i) {
+    worst = std::max(worst, reduced.frequency_hz(i) / modal.frequency_hz(i) - 1.0);
+    EXPECT_NEAR(reduced.frequency_hz(i) / modal.frequency_hz(i), 1.0, 1e-3) << "mode " << i + 1;
+  }
+  std::printf("[ RBE2 bar ] Craig-Bampton, %d coordinates: worst of the 10 lowest %.2e\n", reduced.size(), worst);
+  // The interface shape of a coupling node: rows are its own 6 DOF (unit shape under raw CB would be
+  // the identity; orthonormalized, the shapes span the same motion), nonzero.
+  EXPECT_GT(reduced.interfaces.shapes[0].norm(), 0.0);
+}
+
+TEST_F(CoupledBar, HoldingTheCouplingNodeClampsTheWholeFace) {
+  // All six DOF of the left coupling node held = every node of the left face held in x, y, z.
+  Component coupled = bar();
+  coupled.interfaces.pop_back();
+  Support hold;
+  hold.box = std::array<double, 6>{-0.011, 0.019, 0.019, -0.009, 0.021, 0.021};
+  hold.dofs.fill(true);
+  coupled.supports = {hold};
+  coupled.reduction.method = ReductionMethod::kModal;
+  coupled.reduction.modes = 8;
+  const Superelement a = condense_component(coupled, EigenBackend::kSpectra, kQuiet);
+
+  Component clamped = bar();
+  clamped.interfaces.clear();
+  Support face;
+  face.box = std::array<double, 6>{-1e-9, -1, -1, 1e-9, 1, 1};
+  face.dofs = {true, true, true, false, false, false};
+  clamped.supports = {face};
+  clamped.reduction.method = ReductionMethod::kModal;
+  clamped.reduction.modes = 8;
+  const Superelement b = condense_component(clamped, EigenBackend::kSpectra, kQuiet);
+  for (int i = 0; i < 8; ++i) EXPECT_NEAR(a.frequency_hz(i) / b.frequency_hz(i), 1.0, 1e-9) << "mode " << i + 1;
+}
+
+// ---------------------------------------------------------------------------------------------
 // Bad input of volume components: each names the file, line and key (or mesh line and element).
 
 class VolumeInput : public ::testing::Test {
@@ -253,10 +341,29 @@ TEST_F(VolumeInput, SupportBoxThatHoldsNoNode) {
   EXPECT_NE(std::string(e.what()).find("holds no node"), std::string::npos) << e.what();
 }
 
-TEST_F(VolumeInput, InterfacesNeedCouplingsNotYetAvailable) {
+TEST_F(VolumeInput, InterfaceWithoutASurface) {
   const Error e = error_of(component("good.inp", "[0, 0, 0, 0, 1, 1]",
                                      "\n[[interface]]\nname = \"bore\"\nat = [0, 0, 0]\n"));
-  EXPECT_NE(std::string(e.what()).find("couplings"), std::string::npos) << e.what();
+  EXPECT_NE(std::string(e.what()).find("give surface"), std::string::npos) << e.what();
+}
+
+TEST_F(VolumeInput, DistributingCouplingNotYetAvailable) {
+  const Error e = error_of(component("good.inp", "[0, 0, 0, 0, 1, 1]",
+                                     "\n[[interface]]\nname = \"bore\"\nat = [0, 0, 0]\nbox = [0, 0, 0, 0, 1, 1]\n"
+                                     "coupling = \"rbe3\"\n"));
+  EXPECT_NE(std::string(e.what()).find("rbe3"), std::string::npos) << e.what();
+  EXPECT_EQ(e.key(), "interface[1].coupling");
+}
+
+TEST_F(VolumeInput, UnknownNodeSetListsTheMeshSets) {
+  Mesh with_set = mesh_;
+  with_set.node_sets["END"] = {0, 1, 2};
+  write_mesh("sets.inp", with_set);
+  const Error e = error_of(component("sets.inp", "[0, 0, 0, 0, 1, 1]",
+                                     "\n[[interface]]\nname = \"bore\"\nat = [0, 0, 0]\nsurface = \"bore1\"\n"));
+  EXPECT_EQ(e.key(), "interface[1].surface");
+  EXPECT_NE(std::string(e.what()).find("\"BORE1\" is not in the mesh"), std::string::npos) << e.what();
+  EXPECT_NE(std::string(e.what()).find("END"), std::string::npos) << e.what();
 }
 
 }  // namespace
