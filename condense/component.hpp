@@ -75,6 +75,7 @@ struct NamedPoint {
   // Volume interfaces only: the coupling of the point to a surface of the mesh.
   std::string surface;                       ///< node set (*NSET) of the mesh, upper case; or ...
   std::optional<std::array<double, 6>> box;  ///< ... the nodes inside a box, m
+  bool distributing = false;                 ///< RBE3 (weighted average, no stiffness) instead of RBE2
 };
 
 enum class ReductionMethod { kModal, kCraigBampton, kGuyan };

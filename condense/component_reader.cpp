@@ -146,10 +146,7 @@ void read_coupling(const Table& pt, NamedPoint& p) {
   if (!surface == !p.box) {
     pt.fail("a volume interface couples to a surface: give surface = \"NSET name\" or box = [...], one of them");
   }
-  const std::string coupling = pt.optional_choice("coupling", {"rbe2", "rbe3"}).value_or("rbe2");
-  if (coupling == "rbe3") {
-    pt.fail("coupling", "the distributing coupling (rbe3) is not available yet; use coupling = \"rbe2\" (rigid)");
-  }
+  p.distributing = pt.optional_choice("coupling", {"rbe2", "rbe3"}).value_or("rbe2") == "rbe3";
 }
 
 std::vector<NamedPoint> read_points(const Table& root, const std::string& key, bool couplings = false) {

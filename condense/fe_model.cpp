@@ -92,13 +92,15 @@ void apply_supports(FeModel& model, const std::vector<Support>& supports, double
 void build_transform(FeModel& model) {
   const int n_all = model.all_dofs();
   const int n_nodes = static_cast<int>(model.nodes.size());
+  std::vector<bool> dependent(n_all, false);
+  for (const LinearConstraint& c : model.constraints) dependent[c.dof] = true;
   std::vector<int> free_index(n_all, -1);
   int n_free = 0;
   for (int n = 0; n < n_nodes; ++n) {
     if (model.master_of[n] != n) continue;
     for (int d = 0; d < 6; ++d) {
       const int dof = 6 * n + d;
-      if (!model.supported_dof[dof] && !model.inactive_dof[dof]) free_index[dof] = n_free++;
+      if (!model.supported_dof[dof] && !model.inactive_dof[dof] && !dependent[dof]) free_index[dof] = n_free++;
     }
   }
   std::vector<Eigen::Triplet<double>> tt;
@@ -116,6 +118,13 @@ void build_transform(FeModel& model) {
       rx << 0, -r.z(), r.y(), r.z(), 0, -r.x(), -r.y(), r.x(), 0;
       for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) add(6 * n + i, 6 * m + 3 + j, -rx(i, j));
+    }
+  }
+  // Dependent DOF: their rows are the constraint's combination of independent DOF (a held DOF is 0).
+  for (const LinearConstraint& c : model.constraints) {
+    for (const auto& [dof, coefficient] : c.terms) {
+      const int col = free_index[dof];
+      if (col >= 0 && coefficient != 0.0) tt.emplace_back(c.dof, col, coefficient);
     }
   }
   model.transform.resize(n_all, n_free);

@@ -19,6 +19,12 @@ namespace nvh::condense {
 
 using SparseMatrix = Eigen::SparseMatrix<double>;
 
+/// A linear multi-point constraint: the nodal DOF `dof` equals sum c_j u(dof_j) over independent DOF.
+struct LinearConstraint {
+  int dof = 0;
+  std::vector<std::pair<int, double>> terms;  ///< (nodal DOF, coefficient)
+};
+
 struct FeModel {
   std::vector<Eigen::Vector3d> nodes;  ///< node positions, m
   int element_count = 0;
@@ -37,6 +43,9 @@ struct FeModel {
   std::vector<bool> inactive_dof;   ///< per nodal DOF: not part of the model (rotations of solid nodes)
   std::vector<int> master_of;       ///< per node: itself, or its master node for a rigid-link slave
   std::vector<int> coupling_nodes;  ///< volume models: the coupling node of each interface, in order
+  /// Dependent DOF given by linear constraints (distributing couplings); each refers to DOF of master
+  /// nodes that are neither dependent nor slaves.
+  std::vector<LinearConstraint> constraints;
 
   int all_dofs() const { return 6 * static_cast<int>(nodes.size()); }
   int free_dofs() const { return static_cast<int>(transform.cols()); }

@@ -1,5 +1,8 @@
 #include "condense/volume_model.hpp"
 
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
+#include <Eigen/QR>
 #include <Eigen/SVD>
 #include <map>
 
@@ -15,8 +18,9 @@ namespace {
 /// active) becomes the master of the mesh nodes of its surface, u_s = u_m + theta_m x r. The coupling
 /// adds no mass of its own; its rotations get inertia through the slaves, so a surface needs at least
 /// three nodes that are not on one line.
-void add_couplings(FeModel& model, const Mesh& mesh, const std::vector<bool>& used,
-                   const std::vector<NamedPoint>& interfaces, int first_coupling) {
+std::vector<std::vector<int>> add_couplings(FeModel& model, const Mesh& mesh, const std::vector<bool>& used,
+                                            const std::vector<NamedPoint>& interfaces, int first_coupling) {
+  std::vector<std::vector<int>> surfaces;
   std::vector<int> coupled_by(model.nodes.size(), -1);
   for (std::size_t i = 0; i < interfaces.size(); ++i) {
     const NamedPoint& p = interfaces[i];
@@ -54,6 +58,7 @@ void add_couplings(FeModel& model, const Mesh& mesh, const std::vector<bool>& us
                       " mesh nodes; it needs at least three that are not on one line",
                   p.where, p.path + (p.surface.empty() ? ".box" : ".surface"));
     }
+    surfaces.push_back(surface);
     for (int n : surface) {
       if (coupled_by[n] >= 0) {
         throw Error("mesh node " + std::to_string(mesh.node_ids[n]) + " is coupled to two interfaces (\"" +
@@ -61,10 +66,67 @@ void add_couplings(FeModel& model, const Mesh& mesh, const std::vector<bool>& us
                     p.where, p.path);
       }
       coupled_by[n] = static_cast<int>(i);
-      model.master_of[n] = master;
+      if (!p.distributing) model.master_of[n] = master;  // RBE2: the surface follows the point rigidly
     }
     for (int d = 0; d < 6; ++d) model.inactive_dof[6 * master + d] = false;
     model.coupling_nodes.push_back(master);
+  }
+  return surfaces;
+}
+
+/// Distributing couplings (RBE3): the point moves as the least-squares rigid fit of its surface,
+///   [u_p; theta_p] = A u_s,  A = (G^T G)^-1 G^T,  G_i = [I, -[r_i]x],  r_i = x_i - x_p
+/// (equal weights), and adds no stiffness. So that the point's DOF stay independent coordinates (the
+/// interface DOF of Craig-Bampton), six surface DOF u_d, chosen by column-pivoted QR of A among the
+/// unsupported ones, become dependent: u_d = A_d^-1 (u_p - A_o u_o).
+void add_distributing_constraints(FeModel& model, const std::vector<NamedPoint>& interfaces,
+                                  const std::vector<std::vector<int>>& surfaces) {
+  for (std::size_t i = 0; i < interfaces.size(); ++i) {
+    if (!interfaces[i].distributing) continue;
+    const int point = model.coupling_nodes[i];
+    const std::vector<int>& surface = surfaces[i];
+    const int m = static_cast<int>(surface.size());
+    Eigen::MatrixXd G(3 * m, 6);
+    std::vector<int> dofs(3 * m);
+    for (int j = 0; j < m; ++j) {
+      const Eigen::Vector3d r = model.nodes[surface[j]] - model.nodes[point];
+      Eigen::Matrix3d rx;
+      rx << 0, -r.z(), r.y(), r.z(), 0, -r.x(), -r.y(), r.x(), 0;
+      G.block<3, 3>(3 * j, 0).setIdentity();
+      G.block<3, 3>(3 * j, 3) = -rx;
+      for (int a = 0; a < 3; ++a) dofs[3 * j + a] = 6 * surface[j] + a;
+    }
+    const Eigen::MatrixXd A = (G.transpose() * G).ldlt().solve(G.transpose());  // 6 x 3m
+    // Candidates for the dependent DOF: the unsupported ones.
+    std::vector<int> candidates;
+    for (int k = 0; k < 3 * m; ++k)
+      if (!model.supported_dof[dofs[k]]) candidates.push_back(k);
+    const auto held = [&] {
+      return Error("the distributing coupling of interface \"" + interfaces[i].name +
+                       "\" cannot carry all six DOF: its surface is held by supports",
+                   interfaces[i].where, interfaces[i].path);
+    };
+    if (candidates.size() < 6) throw held();
+    Eigen::MatrixXd Ac(6, candidates.size());
+    for (std::size_t k = 0; k < candidates.size(); ++k) Ac.col(k) = A.col(candidates[k]);
+    const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(Ac);
+    if (qr.rank() < 6) throw held();
+    std::vector<int> dependent;
+    for (int k = 0; k < 6; ++k) dependent.push_back(candidates[qr.colsPermutation().indices()(k)]);
+    Eigen::Matrix<double, 6, 6> Ad;
+    for (int k = 0; k < 6; ++k) Ad.col(k) = A.col(dependent[k]);
+    const Eigen::Matrix<double, 6, 6> Ad_inv = Ad.inverse();
+    std::vector<bool> is_dependent(3 * m, false);
+    for (int k : dependent) is_dependent[k] = true;
+    for (int k = 0; k < 6; ++k) {
+      LinearConstraint c;
+      c.dof = dofs[dependent[k]];
+      for (int j = 0; j < 6; ++j) c.terms.emplace_back(6 * point + j, Ad_inv(k, j));
+      const Eigen::RowVectorXd minus = -Ad_inv.row(k) * A;
+      for (int o = 0; o < 3 * m; ++o)
+        if (!is_dependent[o]) c.terms.emplace_back(dofs[o], minus(o));
+      model.constraints.push_back(std::move(c));
+    }
   }
 }
 
@@ -150,8 +212,9 @@ FeModel build_volume_model(const Component& c) {
   for (int a = 0; a < 3; ++a)
     for (int b = 0; b < 3; ++b) model.component_mass_all[a][b] = assemble(ct[a][b]);
 
-  add_couplings(model, mesh, used, c.interfaces, mesh_nodes);
+  const std::vector<std::vector<int>> surfaces = add_couplings(model, mesh, used, c.interfaces, mesh_nodes);
   apply_supports(model, c.supports, c.point_tolerance);
+  add_distributing_constraints(model, c.interfaces, surfaces);
   build_transform(model);
   return model;
 }
