@@ -143,7 +143,10 @@ int main(int argc, char** argv) {
     };
     const Superelement se = condense_component(component, options.backend, log, &timer, progress);
     bar.reset();
-    const Provenance provenance = make_provenance("condense", argc, argv, {component_file});
+    // Every input is hashed: the component file, and a volume component's mesh.
+    std::vector<std::filesystem::path> inputs{component_file};
+    if (component.kind == "volume") inputs.push_back(component.volume.mesh);
+    const Provenance provenance = make_provenance("condense", argc, argv, inputs);
     write_superelement(output_file, se, provenance);
     timer.lap("write");
 
