@@ -51,18 +51,15 @@
 #include "condense/component.hpp"
 #include "condense/condense.hpp"
 #include "condense/eigensolver.hpp"
+#include "beam_fixtures.hpp"  // the test models, shared with tests/condense
 
 namespace {
 
 using namespace nvh;
 using namespace nvh::condense;
+using namespace nvh::condense::testing;
 
-constexpr double kPi = std::numbers::pi;
 
-struct Steel {
-  double E = 210e9, nu = 0.3, rho = 7850.0;
-  double G() const { return E / (2.0 * (1.0 + nu)); }
-};
 
 struct Options {
   std::string out_dir = "bench-out";
@@ -114,64 +111,6 @@ Options parse(int argc, char** argv) {
 // ------------------------------------------------------------------------------------------------
 // Models (the same constructions as tests/condense/beam_fixtures.hpp and test_reduction.cpp).
 
-BeamSection circle(double d, std::optional<double> shear_factor = {}) {
-  BeamSection s;
-  s.A = kPi * d * d / 4.0;
-  s.Iy = s.Iz = kPi * std::pow(d, 4) / 64.0;
-  s.J = kPi * std::pow(d, 4) / 32.0;
-  s.shear_factor = shear_factor;
-  return s;
-}
-
-BeamSection square(double h, std::optional<double> shear_factor = {}) {
-  BeamSection s;
-  s.A = h * h;
-  s.Iy = s.Iz = h * h * h * h / 12.0;
-  s.J = h * h * h * h * (1.0 / 3.0 - 0.21 * (1.0 - 1.0 / 12.0));  // Saint-Venant approximation, b = t
-  s.shear_factor = shear_factor;
-  return s;
-}
-
-Component straight_beam(double L, const BeamSection& section, int elements) {
-  const Steel steel;
-  Component c;
-  c.name = "beam";
-  c.kind = "beam";
-  c.materials["steel"] = Material{"steel", steel.E, steel.nu, steel.rho};
-  c.beam.material = "steel";
-  c.beam.points = {Vec3{0, 0, 0}, Vec3{L, 0, 0}};
-  c.beam.elements_per_segment = elements;
-  c.beam.segment_sections = {section};
-  c.reduction.method = ReductionMethod::kModal;
-  return c;
-}
-
-Support support(const Vec3& at, const std::string& mask) {
-  Support s;
-  s.at = at;
-  for (int d = 0; d < 6; ++d) s.dofs[d] = mask[d] == '1';
-  return s;
-}
-
-NamedPoint point(const std::string& name, const Vec3& at) {
-  NamedPoint p;
-  p.name = name;
-  p.at = at;
-  p.path = name;
-  return p;
-}
-
-/// The free L-frame of test_reduction.cpp: two round bars (d = 30 and 20 mm, kappa 0.9), 16 elements
-/// each, a 1.5 kg point mass on a rigid link at the corner, interfaces at both ends.
-Component frame() {
-  Component c = straight_beam(0.8, circle(0.03, 0.9), 16);
-  c.beam.points = {Vec3{0, 0, 0}, Vec3{0.8, 0, 0}, Vec3{0.8, 0.5, 0.1}};
-  c.beam.segment_sections = {circle(0.03, 0.9), circle(0.02, 0.9)};
-  c.beam.rigid_links = {RigidLink{{0.8, 0, 0}, {0.8, -0.05, 0.02}, {}, {}}};
-  c.beam.masses = {PointMass{{0.8, -0.05, 0.02}, 1.5, {2e-3, 3e-3, 4e-3}, {}, {}}};
-  c.interfaces = {point("a", {0, 0, 0}), point("b", {0.8, 0.5, 0.1})};
-  return c;
-}
 
 // ------------------------------------------------------------------------------------------------
 // References and helpers.
@@ -344,7 +283,7 @@ std::vector<BeamCase> cantilever_cases(const Logger& log, EigenBackend backend) 
     c.model = "euler-bernoulli";
     c.elements = n;
     c.component = straight_beam(L, s, n);
-    c.component.supports = {support({0, 0, 0}, "111111")};
+    c.component.supports = {fixed({0, 0, 0}, "111111")};
     const FeModel model = build_beam_model(c.component);
     c.free_dofs = model.free_dofs();
     c.modes = std::min(kModes, c.free_dofs);
@@ -373,8 +312,8 @@ std::vector<BeamCase> cantilever_cases(const Logger& log, EigenBackend backend) 
 std::vector<BeamCase> thick_cases(const Logger& log, EigenBackend backend) {
   const Steel steel;
   const double L = 0.6, h = 0.1;
-  const BeamSection timo = square(h, 5.0 / 6.0);
-  BeamSection eb = square(h);
+  const BeamSection timo = rectangle(h, h, 5.0 / 6.0);
+  BeamSection eb = rectangle(h, h);
   eb.rotary_inertia = false;
   std::vector<BeamCase> cases;
   for (const bool timoshenko : {true, false}) {
@@ -385,7 +324,7 @@ std::vector<BeamCase> thick_cases(const Logger& log, EigenBackend backend) {
       c.elements = n;
       c.component = straight_beam(L, s, n);
       // Simply supported in both bending planes; axial motion and torsion held at x = 0.
-      c.component.supports = {support({0, 0, 0}, "111100"), support({L, 0, 0}, "011000")};
+      c.component.supports = {fixed({0, 0, 0}, "111100"), fixed({L, 0, 0}, "011000")};
       const FeModel model = build_beam_model(c.component);
       c.free_dofs = model.free_dofs();
       c.modes = std::min(kModes, c.free_dofs);

@@ -255,7 +255,7 @@ std::string arpack_message(const char* routine, int info) {
       what = "HOWMNY must be A or S when eigenvectors are requested";
       break;
     case -16:
-      what = "HOWMNY = S is not implemented";
+      what = "HOWMNY = S is not supported by this ARPACK";
       break;
     case -17:
       what = "dseupd found a different number of converged Ritz values than dsaupd";

@@ -23,17 +23,6 @@ using namespace testing;
 
 const Logger kQuiet{std::cerr, "test", Verbosity::kQuiet};
 
-/// An L-shaped, free frame of two round bars with a point mass at the corner on a rigid link: modes
-/// couple bending, torsion and axial motion, so the reduction has real work to do.
-Component frame(int elements_per_segment = 16) {
-  Component c = straight_beam(0.8, circle(0.03, 0.9), elements_per_segment);
-  c.beam.points = {Vec3{0, 0, 0}, Vec3{0.8, 0, 0}, Vec3{0.8, 0.5, 0.1}};
-  c.beam.segment_sections = {circle(0.03, 0.9), circle(0.02, 0.9)};
-  c.beam.rigid_links = {RigidLink{{0.8, 0, 0}, {0.8, -0.05, 0.02}, {}, {}}};
-  c.beam.masses = {PointMass{{0.8, -0.05, 0.02}, 1.5, {2e-3, 3e-3, 4e-3}, {}, {}}};
-  c.interfaces = {point("a", {0, 0, 0}), point("b", {0.8, 0.5, 0.1})};
-  return c;
-}
 
 /// Elastic frequencies of the unreduced free model, Hz (the 6 rigid-body modes dropped).
 Eigen::VectorXd unreduced_hz(const Component& c) {
