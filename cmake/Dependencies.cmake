@@ -22,6 +22,14 @@ add_library(nvh_cholmod INTERFACE)
 target_include_directories(nvh_cholmod SYSTEM INTERFACE ${CHOLMOD_INCLUDE_DIR})
 target_link_libraries(nvh_cholmod INTERFACE ${CHOLMOD_LIBRARY} ${SUITESPARSECONFIG_LIBRARY})
 
+# gmsh (in-process meshing, condense/gmsh_mesh.cpp): Debian's libgmsh-dev has the header gmsh.h and
+# libgmsh.so only (no CMake config, no pkg-config file).
+find_path(GMSH_INCLUDE_DIR gmsh.h REQUIRED)
+find_library(GMSH_LIBRARY gmsh REQUIRED)
+add_library(nvh_gmsh INTERFACE)
+target_include_directories(nvh_gmsh SYSTEM INTERFACE ${GMSH_INCLUDE_DIR})
+target_link_libraries(nvh_gmsh INTERFACE ${GMSH_LIBRARY})
+
 if(NVH_BUILD_TESTS)
   find_package(GTest REQUIRED)
 endif()

@@ -106,6 +106,8 @@ struct VolumeGeometry {
   std::filesystem::path mesh;  ///< resolved against the component file's directory
   std::string material;
   bool mass_like_calculix = false;  ///< integrate the mass with the stiffness rule, as CalculiX does
+  int order = 2;                    ///< geometry meshed by gmsh: 1 (C3D4) or 2 (C3D10)
+  double size = 0.0;                ///< geometry meshed by gmsh: element size, m (0: the geometry's own)
   SourceLocation where;
 };
 

@@ -1,5 +1,6 @@
 #include "condense/component_reader.hpp"
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <set>
@@ -195,12 +196,16 @@ void read_volume(const Table& t, Component& c) {
   const std::string mesh = t.string("mesh");
   v.mesh = std::filesystem::path(mesh).is_absolute() ? std::filesystem::path(mesh)
                                                       : c.file.parent_path() / mesh;
-  const std::string ext = v.mesh.extension().string();
-  if (ext != ".inp") {
-    t.fail("mesh", "expected an Abaqus/CalculiX mesh (.inp with C3D4, C3D10, C3D8 or C3D20 elements), got \"" +
-                       mesh + "\"; gmsh geometry and .msh input come with the gmsh issue");
+  std::string ext = v.mesh.extension().string();
+  for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  const std::vector<std::string> known = {".inp", ".msh", ".geo", ".step", ".stp", ".iges", ".igs", ".brep"};
+  if (std::find(known.begin(), known.end(), ext) == known.end()) {
+    t.fail("mesh", "expected a mesh (.inp of Abaqus/CalculiX, .msh of gmsh) or a geometry for gmsh (.geo, "
+                   ".step, .stp, .iges, .igs, .brep), got \"" + mesh + "\"");
   }
   if (!std::filesystem::exists(v.mesh)) t.fail("mesh", "the mesh file " + v.mesh.string() + " does not exist");
+  v.order = static_cast<int>(t.optional_integer("order", input::Range::closed(1, 2)).value_or(2));
+  v.size = t.number_or("size", 0.0, input::Range::non_negative());
   v.material = t.string("material");
   if (!c.materials.count(v.material)) t.fail("material", "unknown material \"" + v.material + "\"");
   v.mass_like_calculix = t.optional_choice("mass_quadrature", {"exact", "stiffness"}).value_or("exact") == "stiffness";

@@ -8,6 +8,7 @@
 
 #include "common/error.hpp"
 #include "condense/abaqus_mesh.hpp"
+#include "condense/gmsh_mesh.hpp"
 #include "condense/solid_element.hpp"
 
 namespace nvh::condense {
@@ -133,8 +134,12 @@ void add_distributing_constraints(FeModel& model, const std::vector<NamedPoint>&
 }  // namespace
 
 FeModel build_volume_model(const Component& c) {
+  // An Abaqus/CalculiX mesh is read as it is; anything else goes through gmsh (a .msh is read, a
+  // geometry is meshed with second-order tetrahedra by default).
   std::vector<std::string> skipped;
-  const Mesh mesh = read_abaqus_mesh(c.volume.mesh, &skipped);
+  const bool inp = c.volume.mesh.extension() == ".inp" || c.volume.mesh.extension() == ".INP";
+  const Mesh mesh = inp ? read_abaqus_mesh(c.volume.mesh, &skipped)
+                        : mesh_with_gmsh(GmshRequest{c.volume.mesh, c.volume.order, c.volume.size, 1});
   if (mesh.elements.empty()) {
     throw Error("the mesh " + c.volume.mesh.string() +
                     " holds no solid elements (C3D4, C3D10, C3D8 or C3D20)",
