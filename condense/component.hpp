@@ -108,6 +108,8 @@ struct VolumeGeometry {
   bool mass_like_calculix = false;  ///< integrate the mass with the stiffness rule, as CalculiX does
   int order = 2;                    ///< geometry meshed by gmsh: 1 (C3D4) or 2 (C3D10)
   double size = 0.0;                ///< geometry meshed by gmsh: element size, m (0: the geometry's own)
+  /// ... or the size from the frequency range: at most 1/n of the shear wavelength at reduction.fmax.
+  double elements_per_wavelength = 0.0;
   SourceLocation where;
 };
 

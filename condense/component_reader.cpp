@@ -206,6 +206,10 @@ void read_volume(const Table& t, Component& c) {
   if (!std::filesystem::exists(v.mesh)) t.fail("mesh", "the mesh file " + v.mesh.string() + " does not exist");
   v.order = static_cast<int>(t.optional_integer("order", input::Range::closed(1, 2)).value_or(2));
   v.size = t.number_or("size", 0.0, input::Range::non_negative());
+  v.elements_per_wavelength = t.number_or("elements_per_wavelength", 0.0, input::Range::non_negative());
+  if (v.size > 0.0 && v.elements_per_wavelength > 0.0) {
+    t.fail("elements_per_wavelength", "give either size or elements_per_wavelength, not both");
+  }
   v.material = t.string("material");
   if (!c.materials.count(v.material)) t.fail("material", "unknown material \"" + v.material + "\"");
   v.mass_like_calculix = t.optional_choice("mass_quadrature", {"exact", "stiffness"}).value_or("exact") == "stiffness";

@@ -141,8 +141,13 @@ int main(int argc, char** argv) {
       }
       bar->update(std::min(done, expected));
     };
-    const Superelement se = condense_component(component, options.backend, log, &timer, progress);
+    Superelement se = condense_component(component, options.backend, log, &timer, progress);
     bar.reset();
+    for (const StageTimer::Stage& stage : timer.stages()) {
+      se.stage_names.push_back(stage.name);
+      se.stage_seconds.push_back(stage.seconds);
+    }
+    se.peak_memory_bytes = static_cast<double>(peak_memory_bytes());
     // Every input is hashed: the component file, and a volume component's mesh.
     std::vector<std::filesystem::path> inputs{component_file};
     if (component.kind == "volume") inputs.push_back(component.volume.mesh);

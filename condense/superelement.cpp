@@ -154,6 +154,11 @@ void write_superelement(const std::filesystem::path& path, const Superelement& s
   model.set_attribute("dofs", static_cast<std::int64_t>(se.dof_count));
   model.set_attribute("free_dofs", static_cast<std::int64_t>(se.free_dof_count));
   model.set_attribute("max_eigen_residual", se.max_residual);
+  if (!se.stage_names.empty()) {
+    model.set_attribute("stage_names", se.stage_names);
+    model.set_attribute("stage_seconds", se.stage_seconds);
+    model.set_attribute("peak_memory_bytes", se.peak_memory_bytes);
+  }
   file.commit();
 }
 

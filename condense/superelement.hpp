@@ -49,6 +49,10 @@ struct Superelement {
   int dof_count = 0;
   int free_dof_count = 0;
   double max_residual = 0.0;
+  /// Wall time (s) of each stage before writing, and the peak resident memory (bytes), for the record.
+  std::vector<std::string> stage_names;
+  std::vector<double> stage_seconds;
+  double peak_memory_bytes = 0.0;
 
   int size() const { return static_cast<int>(mass.rows()); }
 };

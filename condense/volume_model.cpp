@@ -4,6 +4,7 @@
 #include <Eigen/LU>
 #include <Eigen/QR>
 #include <Eigen/SVD>
+#include <cmath>
 #include <map>
 
 #include "common/error.hpp"
@@ -131,6 +132,18 @@ void add_distributing_constraints(FeModel& model, const std::vector<NamedPoint>&
   }
 }
 
+double mesh_size(const Component& c) {
+  const VolumeGeometry& v = c.volume;
+  if (v.elements_per_wavelength <= 0.0) return v.size;
+  // The shortest wavelength of interest is the shear wavelength c_s / fmax, c_s = sqrt(G / rho).
+  if (c.reduction.fmax_hz <= 0.0) {
+    throw Error("elements_per_wavelength needs reduction.fmax (the size follows the frequency range)", v.where,
+                "volume.elements_per_wavelength");
+  }
+  const Material& m = c.materials.at(v.material);
+  return std::sqrt(m.shear_modulus() / m.rho) / c.reduction.fmax_hz / v.elements_per_wavelength;
+}
+
 }  // namespace
 
 FeModel build_volume_model(const Component& c) {
@@ -139,7 +152,7 @@ FeModel build_volume_model(const Component& c) {
   std::vector<std::string> skipped;
   const bool inp = c.volume.mesh.extension() == ".inp" || c.volume.mesh.extension() == ".INP";
   const Mesh mesh = inp ? read_abaqus_mesh(c.volume.mesh, &skipped)
-                        : mesh_with_gmsh(GmshRequest{c.volume.mesh, c.volume.order, c.volume.size, 1});
+                        : mesh_with_gmsh(GmshRequest{c.volume.mesh, c.volume.order, mesh_size(c), 1});
   if (mesh.elements.empty()) {
     throw Error("the mesh " + c.volume.mesh.string() +
                     " holds no solid elements (C3D4, C3D10, C3D8 or C3D20)",

@@ -127,6 +127,8 @@ TEST_F(CondenseCli, GoodInputWritesTheDocumentedLayout) {
         "invariants/translational_coupling", "invariants/rotational_coupling", "invariants/quadratic"}) {
     EXPECT_TRUE(root.exists(path)) << path;
   }
+  EXPECT_TRUE(root.has_attribute("stage_seconds", "model"));
+  EXPECT_GT(root.double_attribute("peak_memory_bytes", "model"), 1e6);  // a process takes more than 1 MB
   const nvh::condense::Superelement se = nvh::condense::read_superelement(output());
   EXPECT_EQ(se.interfaces.names.at(0), "tip");
   EXPECT_NEAR(se.inertia.mass, 7850.0 * 7.85e-5 * 1.0, 1e-9);

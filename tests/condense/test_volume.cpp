@@ -186,6 +186,38 @@ TEST(GmshGeometry, MeshedInProcessAndAgainstCalculixOnTheSameMesh) {
               static_cast<int>(mesh.nodes.size()), static_cast<int>(mesh.elements.size()), worst);
 }
 
+TEST(GmshGeometry, ElementSizeFollowsTheFrequencyRange) {
+  // elements_per_wavelength = n: size = c_s / (fmax n), c_s = sqrt(G / rho) (steel: 3,207.6 m/s).
+  const fs::path dir = fs::temp_directory_path() / ("nvh_gmsh_size_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  std::ofstream(dir / "box.geo") << "SetFactory(\"OpenCASCADE\");\nBox(1) = {0, 0, 0, 0.2, 0.05, 0.04};\n"
+                                    "Physical Volume(\"solid\") = {1};\n";
+  Component c;
+  c.name = "box";
+  c.kind = "volume";
+  c.materials["steel"] = Material{"steel", 210e9, 0.3, 7850.0};
+  c.volume.mesh = dir / "box.geo";
+  c.volume.material = "steel";
+  c.volume.elements_per_wavelength = 6.0;
+  c.reduction.method = ReductionMethod::kModal;
+  c.reduction.fmax_hz = 40000.0;
+  const Superelement se = condense_component(c, EigenBackend::kSpectra, kQuiet);
+  const double expected = std::sqrt(210e9 / (2 * 1.3) / 7850.0) / 40000.0 / 6.0;  // 13.4 mm
+  EXPECT_NEAR(expected, 0.01336, 1e-5);
+  const Mesh reference = mesh_with_gmsh(GmshRequest{dir / "box.geo", 2, expected, 1});
+  EXPECT_EQ(se.node_count, static_cast<int>(reference.nodes.size()));
+  // Without fmax the rule has nothing to follow.
+  c.reduction.fmax_hz = 0.0;
+  c.reduction.modes = 4;
+  try {
+    condense_component(c, EigenBackend::kSpectra, kQuiet);
+    ADD_FAILURE() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.key(), "volume.elements_per_wavelength");
+  }
+  fs::remove_all(dir);
+}
+
 INSTANTIATE_TEST_SUITE_P(Elements, AgainstCalculix,
                          ::testing::Values(CalculixCase{"C3D20", false, 20}, CalculixCase{"C3D10", true, 20},
                                            CalculixCase{"C3D10", false, 8}));
