@@ -124,6 +124,7 @@ struct Component {
   std::vector<NamedPoint> interfaces;
   std::vector<NamedPoint> observers;
   ReductionSettings reduction;
+  bool export_surface = false;  ///< [surface] export: write the outer surface and its mode shapes
   double point_tolerance = 1e-6;  ///< m: how far a named point may lie from a node of the model
 };
 

@@ -259,6 +259,13 @@ Component read(const input::Document& doc, const std::filesystem::path& file) {
   }
   c.interfaces = read_points(root, "interface", c.kind == "volume");
   c.observers = read_points(root, "observe");
+  if (const auto surface = root.optional_table("surface")) {
+    c.export_surface = surface->optional_boolean("export").value_or(false);
+    if (c.export_surface && c.kind != "volume") {
+      surface->fail("export", "the surface export is for volume components (a beam has no surface mesh)");
+    }
+    surface->finish();
+  }
   c.reduction = read_reduction(root.table("reduction"));
   root.finish();
   return c;

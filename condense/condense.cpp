@@ -2,6 +2,7 @@
 
 #include <Eigen/SVD>
 #include <algorithm>
+#include <limits>
 #include <set>
 #include <sstream>
 
@@ -125,8 +126,24 @@ Superelement condense_component(const Component& c, EigenBackend backend, const 
       volume ? model.coupling_nodes : locate(model, c.interfaces, c.point_tolerance, "interface");
   // Observation points of a solid snap to the nearest node (a beam's must lie on a node).
   std::vector<int> observer_nodes;
+  Eigen::MatrixXd observer_normals;
   if (volume) {
-    for (const NamedPoint& p : c.observers) observer_nodes.push_back(model.nearest_node(p.at));
+    // The nearest node of the outer surface, and its outward normal (normal velocity later).
+    observer_normals.resize(static_cast<Eigen::Index>(c.observers.size()), 3);
+    for (std::size_t i = 0; i < c.observers.size(); ++i) {
+      const Vec3& at = c.observers[i].at;
+      int best = -1;
+      double best_distance = std::numeric_limits<double>::infinity();
+      for (std::size_t j = 0; j < model.surface.nodes.size(); ++j) {
+        const double d = (model.nodes[model.surface.nodes[j]] - Eigen::Vector3d(at[0], at[1], at[2])).norm();
+        if (d < best_distance) {
+          best_distance = d;
+          best = static_cast<int>(j);
+        }
+      }
+      observer_nodes.push_back(model.surface.nodes[best]);
+      observer_normals.row(static_cast<Eigen::Index>(i)) = model.surface.normals.row(best);
+    }
   } else {
     observer_nodes = locate(model, c.observers, c.point_tolerance, "observation");
   }
@@ -169,6 +186,24 @@ Superelement condense_component(const Component& c, EigenBackend backend, const 
   se.damping = r.damping;
   se.interfaces = point_set(model, c.interfaces, interface_nodes, shapes);
   se.observers = point_set(model, c.observers, observer_nodes, shapes);
+  se.observers.normals = observer_normals;
+  if (c.export_surface) {
+    SurfaceExport s;
+    const std::size_t count = model.surface.nodes.size();
+    s.position.resize(static_cast<Eigen::Index>(count), 3);
+    s.normal = model.surface.normals;
+    s.area = model.surface.areas;
+    s.triangles = model.surface.triangles;
+    s.shape.reserve(count * 3 * shapes.cols());
+    for (std::size_t i = 0; i < count; ++i) {
+      const int node = model.surface.nodes[i];
+      s.labels.push_back(model.labels[node]);
+      s.position.row(static_cast<Eigen::Index>(i)) = model.nodes[node].transpose();
+      for (int a = 0; a < 3; ++a)
+        for (Eigen::Index j = 0; j < shapes.cols(); ++j) s.shape.push_back(shapes(6 * node + a, j));
+    }
+    se.surface = std::move(s);
+  }
   se.inertia = rigid_body_inertia(model);
   se.invariants = modal_invariants(model, shapes);
   se.node_count = static_cast<int>(model.nodes.size());

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "condense/component.hpp"
+#include "condense/surface.hpp"
 
 namespace nvh::condense {
 
@@ -46,6 +47,8 @@ struct FeModel {
   /// Dependent DOF given by linear constraints (distributing couplings); each refers to DOF of master
   /// nodes that are neither dependent nor slaves.
   std::vector<LinearConstraint> constraints;
+  Surface surface;                ///< volume models: the outer surface (node indices are model nodes)
+  std::vector<std::int64_t> labels;  ///< volume models: the mesh's node labels (first nodes)
 
   int all_dofs() const { return 6 * static_cast<int>(nodes.size()); }
   int free_dofs() const { return static_cast<int>(transform.cols()); }

@@ -110,6 +110,31 @@ void write_superelement(const std::filesystem::path& path, const Superelement& s
   write_points(interface, se.interfaces, n, "interface");
   h5::Group observe = root.create_group("observe");
   write_points(observe, se.observers, n, "observation");
+  if (se.observers.normals.rows() > 0) {
+    observe.write("normal", se.observers.normals);
+    observe.set_attribute("description", "outward unit normal of the surface at each observation point", "normal");
+  }
+  if (se.surface) {
+    const SurfaceExport& s = *se.surface;
+    h5::Group surface = root.create_group("surface");
+    const hsize_t count = s.labels.size();
+    surface.write("node", std::span<const std::int64_t>(s.labels));
+    surface.set_attribute("description", "mesh node label of each surface node", "node");
+    surface.write("position", s.position);
+    surface.set_attribute("units", "m", "position");
+    surface.write("normal", s.normal);
+    surface.set_attribute("description", "outward unit normal (area-weighted over the adjacent triangles)", "normal");
+    surface.write("area", s.area);
+    surface.set_attribute("units", "m^2", "area");
+    surface.set_attribute("description", "area each node represents (a third of its adjacent triangles)", "area");
+    std::vector<std::int64_t> triangles;
+    for (const auto& t : s.triangles) triangles.insert(triangles.end(), t.begin(), t.end());
+    surface.write("triangles", std::span<const std::int64_t>(triangles));
+    surface.set_attribute("description", "flat sub-triangles, 3 consecutive 0-based indices into the surface nodes "
+                                         "(read as shape (triangles, 3))", "triangles");
+    surface.write("shape", s.shape, {count, 3, static_cast<hsize_t>(n)});
+    surface.set_attribute("units", "m per unit coordinate", "shape");
+  }
 
   h5::Group inv = root.create_group("invariants");
   inv.set_attribute("formulation", "Shabana, Dynamics of Multibody Systems, 3rd ed., 2005, sec. 5.5");
@@ -193,6 +218,30 @@ Superelement read_superelement(const std::filesystem::path& path) {
   se.coordinates = reduced.read_strings("coordinates");
   se.interfaces = read_points(root.open_group("interface"), n);
   se.observers = read_points(root.open_group("observe"), n);
+  if (root.exists("observe/normal")) {
+    se.observers.normals = root.open_group("observe").read_matrix("normal", se.observers.names.size(), 3);
+  }
+  if (root.exists("surface")) {
+    const h5::Group g = root.open_group("surface");
+    SurfaceExport s;
+    s.labels = g.read_ints("node");
+    const hsize_t count = s.labels.size();
+    s.position = g.read_matrix("position", count, 3);
+    s.normal = g.read_matrix("normal", count, 3);
+    s.area = g.read_vector("area", count);
+    const std::vector<std::int64_t> t = g.read_ints("triangles");
+    if (t.size() % 3 != 0) throw Error(where + ":/surface/triangles: expected a multiple of 3 indices");
+    for (std::size_t i = 0; i < t.size(); i += 3) {
+      s.triangles.push_back({static_cast<int>(t[i]), static_cast<int>(t[i + 1]), static_cast<int>(t[i + 2])});
+    }
+    std::vector<hsize_t> dims;
+    s.shape = g.read_array("shape", dims);
+    if (dims != std::vector<hsize_t>{count, 3, hn}) {
+      throw Error(where + ":/surface/shape: expected shape (" + std::to_string(count) + ", 3, " +
+                  std::to_string(n) + ")");
+    }
+    se.surface = std::move(s);
+  }
   const h5::Group inv = root.open_group("invariants");
   se.inertia.mass = inv.read_double("mass");
   se.inertia.center_of_mass = inv.read_vector("center_of_mass", 3);

@@ -3,7 +3,10 @@
 // The layout (every dataset's shape, unit and meaning) is documented in docs/hdf5-format.md; the
 // paths below are fixed by that contract.
 #include <Eigen/Core>
+#include <array>
+#include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -21,6 +24,18 @@ struct PointSet {
   Eigen::MatrixXd position;  ///< count x 3, m
   /// shapes[p] is 6 x n: (ux uy uz rx ry rz) of point p per unit of each coordinate.
   std::vector<Eigen::MatrixXd> shapes;
+  /// Volume observation points: the outward unit normal at the surface node (count x 3); else empty.
+  Eigen::MatrixXd normals;
+};
+
+/// The outer surface of a volume component with the translations of its nodes per coordinate.
+struct SurfaceExport {
+  std::vector<std::int64_t> labels;              ///< mesh node labels
+  Eigen::MatrixXd position;                      ///< nodes x 3, m
+  Eigen::MatrixXd normal;                        ///< nodes x 3, outward unit normals
+  Eigen::VectorXd area;                          ///< nodes, m^2
+  std::vector<std::array<int, 3>> triangles;     ///< flat sub-triangles, 0-based indices into the nodes
+  std::vector<double> shape;                     ///< (nodes, 3, n) row-major: ux uy uz per unit coordinate
 };
 
 struct Superelement {
@@ -39,6 +54,7 @@ struct Superelement {
 
   PointSet interfaces;  ///< /interface/*
   PointSet observers;   ///< /observe/*
+  std::optional<SurfaceExport> surface;  ///< /surface/* when exported
 
   RigidBodyInertia inertia;    ///< /invariants/mass, center_of_mass, inertia, ...
   ModalInvariants invariants;  ///< /invariants/translational_coupling, ...

@@ -233,6 +233,8 @@ FeModel build_volume_model(const Component& c) {
   const std::vector<std::vector<int>> surfaces = add_couplings(model, mesh, used, c.interfaces, mesh_nodes);
   apply_supports(model, c.supports, c.point_tolerance);
   add_distributing_constraints(model, c.interfaces, surfaces);
+  model.surface = extract_surface(mesh);
+  model.labels = mesh.node_ids;
   build_transform(model);
   return model;
 }

@@ -14,6 +14,7 @@
 #include "condense/component_reader.hpp"
 #include "condense/condense.hpp"
 #include "condense/gmsh_mesh.hpp"
+#include "condense/surface.hpp"
 #include "structured_mesh.hpp"
 
 namespace fs = std::filesystem;
@@ -376,6 +377,72 @@ TEST_F(CoupledBar, HoldingTheCouplingNodeClampsTheWholeFace) {
   clamped.reduction.modes = 8;
   const Superelement b = condense_component(clamped, EigenBackend::kSpectra, kQuiet);
   for (int i = 0; i < 8; ++i) EXPECT_NEAR(a.frequency_hz(i) / b.frequency_hz(i), 1.0, 1e-9) << "mode " << i + 1;
+}
+
+// ---------------------------------------------------------------------------------------------
+// The outer surface: areas, outward normals, observation points on it, and its export.
+
+TEST(Surface, BoxAreasAndOutwardNormals) {
+  // A 0.3 x 0.2 x 0.1 m box: total area 2 (ab + bc + ca) = 0.22 m^2, with bricks and with tets.
+  for (const bool tets : {false, true}) {
+    testing::BoxMesher mesher({0.3, 0.2, 0.1}, {3, 2, 2});
+    const Mesh mesh = tets ? mesher.tet10() : mesher.hex20();
+    const Surface s = extract_surface(mesh);
+    EXPECT_NEAR(s.areas.sum(), 0.22, 1e-12) << (tets ? "C3D10" : "C3D20");
+    for (std::size_t i = 0; i < s.nodes.size(); ++i) {
+      const Eigen::Vector3d x = mesh.nodes[s.nodes[i]];
+      // A node inside the face z = 0.1 (away from the edges) has the normal +z.
+      if (std::abs(x.z() - 0.1) < 1e-12 && x.x() > 1e-9 && x.x() < 0.3 - 1e-9 && x.y() > 1e-9 && x.y() < 0.2 - 1e-9) {
+        EXPECT_NEAR((s.normals.row(i) - Eigen::RowVector3d(0, 0, 1)).norm(), 0.0, 1e-12);
+      }
+      if (std::abs(x.x()) < 1e-12 && x.y() > 1e-9 && x.y() < 0.2 - 1e-9 && x.z() > 1e-9 && x.z() < 0.1 - 1e-9) {
+        EXPECT_NEAR((s.normals.row(i) - Eigen::RowVector3d(-1, 0, 0)).norm(), 0.0, 1e-12);
+      }
+    }
+    // Interior nodes are not on the surface: every surface node lies on a face of the box.
+    for (int n : s.nodes) {
+      const Eigen::Vector3d x = mesh.nodes[n];
+      const bool on_face = std::abs(x.x()) < 1e-12 || std::abs(x.x() - 0.3) < 1e-12 || std::abs(x.y()) < 1e-12 ||
+                           std::abs(x.y() - 0.2) < 1e-12 || std::abs(x.z()) < 1e-12 || std::abs(x.z() - 0.1) < 1e-12;
+      EXPECT_TRUE(on_face);
+    }
+  }
+}
+
+TEST_F(CoupledBar, ObservationOnTheSurfaceAndSurfaceExport) {
+  Component c = bar();
+  c.interfaces.clear();
+  NamedPoint above;  // 5 mm above the top face, mid-length: snaps to the top face, normal +z
+  above.name = "top";
+  above.at = {0.2, 0.02, 0.045};
+  c.observers = {above};
+  c.export_surface = true;
+  c.reduction.method = ReductionMethod::kModal;
+  c.reduction.modes = 6;
+  const Superelement se = condense_component(c, EigenBackend::kSpectra, kQuiet);
+  EXPECT_NEAR(se.observers.position(0, 2), 0.04, 1e-12);
+  EXPECT_NEAR((se.observers.normals.row(0) - Eigen::RowVector3d(0, 0, 1)).norm(), 0.0, 1e-12);
+  ASSERT_TRUE(se.surface.has_value());
+  const SurfaceExport& s = *se.surface;
+  EXPECT_NEAR(s.area.sum(), 2 * (0.4 * 0.04 * 2 + 0.04 * 0.04), 1e-12);
+  // The exported shape of the observed node equals its observation shape (translations).
+  const int n = se.size();
+  bool found = false;
+  for (std::size_t i = 0; i < s.labels.size(); ++i) {
+    if ((s.position.row(i) - se.observers.position.row(0)).norm() > 1e-12) continue;
+    found = true;
+    for (int a = 0; a < 3; ++a)
+      for (int j = 0; j < n; ++j) EXPECT_EQ(s.shape[(i * 3 + a) * n + j], se.observers.shapes[0](a, j));
+  }
+  EXPECT_TRUE(found);
+  // Round trip through the file.
+  const fs::path file = dir_ / "bar.h5";
+  write_superelement(file, se, make_provenance("test", 0, nullptr, {}));
+  const Superelement back = read_superelement(file);
+  ASSERT_TRUE(back.surface.has_value());
+  EXPECT_EQ(back.surface->triangles.size(), s.triangles.size());
+  EXPECT_EQ(back.surface->shape, s.shape);
+  EXPECT_NEAR((back.observers.normals - se.observers.normals).norm(), 0.0, 0.0);
 }
 
 // ---------------------------------------------------------------------------------------------
