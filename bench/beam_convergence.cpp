@@ -142,21 +142,7 @@ std::vector<double> plane_frequencies(const FeModel& model, const std::vector<in
   return f;
 }
 
-double timoshenko_ss_hz(int n, double L, const BeamSection& s, const Steel& steel) {
-  const double k = n * kPi / L;
-  const double kGA = *s.shear_factor * steel.G() * s.A;
-  const double EI = steel.E * s.Iz, rA = steel.rho * s.A, rI = steel.rho * s.Iz;
-  const double a = rA * rI;
-  const double b = -(rA * (EI * k * k + kGA) + rI * kGA * k * k);
-  const double c = kGA * k * k * (EI * k * k + kGA) - kGA * kGA * k * k;
-  const double x = (-b - std::sqrt(b * b - 4.0 * a * c)) / (2.0 * a);
-  return std::sqrt(x) / (2.0 * kPi);
-}
 
-double euler_bernoulli_ss_hz(int n, double L, const BeamSection& s, const Steel& steel) {
-  const double k = n * kPi / L;
-  return k * k * std::sqrt(steel.E * s.Iz / (steel.rho * s.A)) / (2.0 * kPi);
-}
 
 /// Largest relative difference between each bending frequency `plane` and the nearest pipeline
 /// frequency, over those bending frequencies that lie within the pipeline's range.

@@ -132,15 +132,7 @@ Superelement condense_component(const Component& c, EigenBackend backend, const 
     observer_normals.resize(static_cast<Eigen::Index>(c.observers.size()), 3);
     for (std::size_t i = 0; i < c.observers.size(); ++i) {
       const Vec3& at = c.observers[i].at;
-      int best = -1;
-      double best_distance = std::numeric_limits<double>::infinity();
-      for (std::size_t j = 0; j < model.surface.nodes.size(); ++j) {
-        const double d = (model.nodes[model.surface.nodes[j]] - Eigen::Vector3d(at[0], at[1], at[2])).norm();
-        if (d < best_distance) {
-          best_distance = d;
-          best = static_cast<int>(j);
-        }
-      }
+      const int best = nearest_surface_node(model.surface, model.nodes, Eigen::Vector3d(at[0], at[1], at[2]));
       observer_nodes.push_back(model.surface.nodes[best]);
       observer_normals.row(static_cast<Eigen::Index>(i)) = model.surface.normals.row(best);
     }

@@ -119,11 +119,12 @@ Surface extract_surface(const Mesh& mesh) {
   return s;
 }
 
-int nearest_surface_node(const Surface& surface, const Mesh& mesh, const Eigen::Vector3d& point) {
+int nearest_surface_node(const Surface& surface, const std::vector<Eigen::Vector3d>& nodes,
+                         const Eigen::Vector3d& point) {
   int best = -1;
   double best_distance = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < surface.nodes.size(); ++i) {
-    const double d = (mesh.nodes[surface.nodes[i]] - point).squaredNorm();
+    const double d = (nodes[surface.nodes[i]] - point).squaredNorm();
     if (d < best_distance) {
       best_distance = d;
       best = static_cast<int>(i);

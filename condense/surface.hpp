@@ -23,6 +23,7 @@ struct Surface {
 Surface extract_surface(const Mesh& mesh);
 
 /// Index into surface.nodes of the surface node nearest to `point`.
-int nearest_surface_node(const Surface& surface, const Mesh& mesh, const Eigen::Vector3d& point);
+int nearest_surface_node(const Surface& surface, const std::vector<Eigen::Vector3d>& nodes,
+                         const Eigen::Vector3d& point);
 
 }  // namespace nvh::condense

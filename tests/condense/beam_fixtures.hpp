@@ -76,4 +76,24 @@ inline Component frame(int elements_per_segment = 16) {
   return c;
 }
 
+
+/// Lower root (bending branch) of the simply supported Timoshenko frequency equation, Hz.
+inline double timoshenko_ss_hz(int n, double L, const BeamSection& s, const Steel& steel) {
+  const double k = n * kPi / L;
+  const double kGA = *s.shear_factor * steel.G() * s.A;
+  const double EI = steel.E * s.Iz, rA = steel.rho * s.A, rI = steel.rho * s.Iz;
+  // (kGA k^2 - rA x)(EI k^2 + kGA - rI x) - (kGA k)^2 = 0 with x = omega^2.
+  const double a = rA * rI;
+  const double b = -(rA * (EI * k * k + kGA) + rI * kGA * k * k);
+  const double c = kGA * k * k * (EI * k * k + kGA) - kGA * kGA * k * k;
+  const double x = (-b - std::sqrt(b * b - 4.0 * a * c)) / (2.0 * a);
+  return std::sqrt(x) / (2.0 * kPi);
+}
+
+/// Euler-Bernoulli simply supported beam, mode n, Hz: k^2 sqrt(EI / (rho A)) / 2 pi, k = n pi / L.
+inline double euler_bernoulli_ss_hz(int n, double L, const BeamSection& s, const Steel& steel) {
+  const double k = n * kPi / L;
+  return k * k * std::sqrt(steel.E * s.Iz / (steel.rho * s.A)) / (2.0 * kPi);
+}
+
 }  // namespace nvh::condense::testing
