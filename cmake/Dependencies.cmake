@@ -30,6 +30,21 @@ add_library(nvh_gmsh INTERFACE)
 target_include_directories(nvh_gmsh SYSTEM INTERFACE ${GMSH_INCLUDE_DIR})
 target_link_libraries(nvh_gmsh INTERFACE ${GMSH_LIBRARY})
 
+# SUNDIALS (solve's IDA integrator with the KLU sparse direct solver). Its CMake config needs OpenMP for C,
+# hence LANGUAGES C CXX in the top-level project().
+find_package(SUNDIALS 6.4 REQUIRED CONFIG
+             COMPONENTS ida nvecserial sunmatrixdense sunmatrixsparse sunlinsoldense sunlinsolklu)
+
+# FFTW (postproc's spectra): pkg-config only.
+pkg_check_modules(FFTW3 REQUIRED IMPORTED_TARGET fftw3)
+
+# METIS (fill-reducing orderings): header metis.h and libmetis.so only; idx_t is 32-bit.
+find_path(METIS_INCLUDE_DIR metis.h REQUIRED)
+find_library(METIS_LIBRARY metis REQUIRED)
+add_library(nvh_metis INTERFACE)
+target_include_directories(nvh_metis SYSTEM INTERFACE ${METIS_INCLUDE_DIR})
+target_link_libraries(nvh_metis INTERFACE ${METIS_LIBRARY})
+
 if(NVH_BUILD_TESTS)
   find_package(GTest REQUIRED)
 endif()
