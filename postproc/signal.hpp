@@ -1,0 +1,76 @@
+#pragma once
+// Signals: uniformly sampled time histories read from HDF5, CSV or UFF58 files, in blocks.
+//
+// A signal is addressed on the command line as (docs/postproc.md section 2):
+//   FILE.h5:/path/to/dataset          1-D dataset
+//   FILE.h5:/markers/top1/acceleration[2]   column 2 (0-based; [x], [y], [z] also accepted) of an (n, m)
+//                                      dataset, e.g. solve's marker signals in global axes
+//   FILE.csv:column                    a column of a CSV file with a header row (name or 0-based index)
+//   FILE.uff[:N]                       the N-th (1-based, default 1) dataset 58 of a Universal File
+//   NAME=ADDRESS                       any of the above, named NAME in the outputs
+// The sample rate comes from a `sample_rate_hz` attribute (on the dataset or on any group above it), else
+// from a `time` dataset (or CSV column "time"/"time_s"/"t") which must be uniformly spaced.
+//
+// Signals are read in blocks (SignalSource::read), so a 31 M-sample HDF5 dataset is never held whole.
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace nvh::postproc {
+
+/// What is known of a signal without reading its samples.
+struct SignalInfo {
+  std::string name;            ///< output group name (sanitized: letters, digits, '_', '-')
+  std::string address;         ///< as given, for messages and provenance
+  std::filesystem::path file;  ///< the file it comes from (empty for in-memory signals)
+  std::string unit;            ///< physical unit of the samples ("m/s^2", "m/s", "Pa", ...; "" unknown)
+  double sample_rate_hz = 0.0;
+  double start_time_s = 0.0;
+  std::int64_t size = 0;  ///< number of samples
+};
+
+/// The physical quantity a unit stands for: "acceleration", "velocity", "displacement", "pressure",
+/// "force", "power", or "" if the unit is not one of m/s^2, m/s, m, Pa, N, W.
+std::string quantity_of_unit(const std::string& unit);
+
+/// A readable signal. Cheap to move; reading never loads more than asked.
+class SignalSource {
+ public:
+  /// Open an addressed signal (see the header comment). Errors name the address and say what was expected:
+  /// missing file or dataset, wrong rank, column out of range, no sample rate, non-uniform time.
+  static SignalSource open(const std::string& address);
+  /// A signal held in memory (tests, the orders of a synthetic run-up).
+  static SignalSource from_samples(std::string name, std::vector<double> samples, double sample_rate_hz,
+                                   std::string unit = "");
+
+  SignalSource(SignalSource&&) noexcept;
+  SignalSource& operator=(SignalSource&&) noexcept;
+  ~SignalSource();
+
+  const SignalInfo& info() const { return info_; }
+  std::int64_t size() const { return info_.size; }
+
+  /// Samples [offset, offset + out.size()). A NaN or infinite sample is an error naming the input and
+  /// the sample index.
+  void read(std::int64_t offset, std::span<double> out) const;
+  /// All samples (for small signals; the analyses stream with read()).
+  std::vector<double> read_all() const;
+
+  struct Impl;  // the file handle or the samples (signal.cpp)
+
+ private:
+  SignalSource() = default;
+  SignalInfo info_;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// A name usable as an HDF5 group: characters other than letters, digits, '_' and '-' become '_'.
+std::string sanitize_name(const std::string& text);
+
+/// Split "NAME=ADDRESS" into its name ("" if none) and address.
+std::pair<std::string, std::string> split_named_address(const std::string& text);
+
+}  // namespace nvh::postproc
