@@ -1,0 +1,168 @@
+// The bearing-map tool (bearing_map_main) and the TOML reader.
+//
+// References (none computed with this code): Ocvirk's short bearing, S = (R/c)^2 mu N / P with
+// W = mu U L^3 / (4 c^2) eps / (1 - eps^2)^2 sqrt(pi^2 (1 - eps^2) + 16 eps^2) and
+// tan(attitude) = pi sqrt(1 - eps^2) / (4 eps) (NACA Report 1157, 1953); minimum film c (1 - eps).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "common/error.hpp"
+#include "common/hdf5.hpp"
+#include "common/input.hpp"
+#include "solve/bearing/bearing_map_cli.hpp"
+#include "solve/bearing/bearing_reader.hpp"
+
+namespace nvh::bearing {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+std::filesystem::path scratch(const std::string& name) {
+  const auto dir = std::filesystem::path(NVH_BINARY_DIR) / "tests" / "bearing" / "scratch";
+  std::filesystem::create_directories(dir);
+  return dir / name;
+}
+
+int run(std::vector<std::string> args) {
+  args.insert(args.begin(), "bearing-map");
+  std::vector<char*> argv;
+  for (std::string& a : args) argv.push_back(a.data());
+  return bearing_map_main(static_cast<int>(argv.size()), argv.data());
+}
+
+void write(const std::filesystem::path& p, const std::string& text) {
+  std::ofstream(p) << text;
+}
+
+const char* kShortBearing = R"([bearing]
+name = "test"
+model = "short"
+diameter = 0.05
+width = 0.02
+radial_clearance = 25e-6
+viscosity = 0.01
+
+[map]
+speed_rpm = 3000
+eccentricities = [0.2, 0.5, 0.8]
+)";
+
+TEST(bearing_map, ShortBearingMapAgainstOcvirk) {
+  const auto toml = scratch("short.toml"), h5 = scratch("short.h5"), csv = scratch("short.csv");
+  write(toml, kShortBearing);
+  ASSERT_EQ(run({toml.string(), "-o", h5.string(), "--csv", csv.string(), "-q"}), 0);
+  const h5::File f = h5::File::open_read(h5);
+  EXPECT_EQ(f.root().string_attribute("format"), "nvh-bearing-map");
+  EXPECT_EQ(f.root().string_attribute("units", "map/sommerfeld"), "1");
+  EXPECT_EQ(f.root().string_attribute("units", "map/Kxy"), "N/m");
+  EXPECT_TRUE(f.root().has_attribute("input_sha256"));
+  const Eigen::VectorXd eps = f.root().read_vector("map/eccentricity", 3);
+  const Eigen::VectorXd S = f.root().read_vector("map/sommerfeld", 3);
+  const Eigen::VectorXd phi = f.root().read_vector("map/attitude_deg", 3);
+  const Eigen::VectorXd hmin = f.root().read_vector("map/min_film_m", 3);
+  const double R = 0.025, L = 0.02, c = 25e-6, mu = 0.01, w = 3000 * 2 * kPi / 60;
+  for (int i = 0; i < 3; ++i) {
+    const double e = eps[i];
+    const double W = mu * w * R * L * L * L / (4 * c * c) * e / std::pow(1 - e * e, 2) *
+                     std::sqrt(kPi * kPi * (1 - e * e) + 16 * e * e);
+    const double S_ref = (R / c) * (R / c) * mu * (w / (2 * kPi)) / (W / (L * 2 * R));
+    EXPECT_NEAR(S[i] / S_ref, 1.0, 1e-9);
+    EXPECT_NEAR(phi[i], std::atan(kPi * std::sqrt(1 - e * e) / (4 * e)) * 180 / kPi, 1e-6);
+    EXPECT_NEAR(hmin[i], c * (1 - e), 1e-15);
+  }
+  std::ifstream in(csv);
+  std::string header;
+  std::getline(in, header);
+  EXPECT_EQ(header.rfind("eccentricity,sommerfeld,attitude_deg,", 0), 0u) << header;
+}
+
+TEST(bearing_map, FiniteBearingWithHoleRuns) {
+  const auto toml = scratch("finite.toml"), h5 = scratch("finite.h5");
+  write(toml, R"([bearing]
+model = "finite"
+diameter = 0.05
+width = 0.025
+radial_clearance = 30e-6
+viscosity = 0.008
+supply_pressure = 3e5
+cavitation = "jfo"
+grid = [48, 12]
+[[bearing.hole]]
+angle_deg = 90
+diameter = 0.005
+
+[map]
+speed_rpm = 2000
+)");
+  ASSERT_EQ(run({toml.string(), "-o", h5.string(), "--eccentricities", "0.3,0.6", "-q"}), 0);
+  const h5::File f = h5::File::open_read(h5);
+  const Eigen::VectorXd feed = f.root().read_vector("map/feed_flow_m3s", 2);
+  const Eigen::VectorXd side = f.root().read_vector("map/side_flow_m3s", 2);
+  for (int i = 0; i < 2; ++i) EXPECT_NEAR(feed[i] / side[i], 1.0, 1e-6);  // JFO conserves mass
+  const Eigen::VectorXd kxx = f.root().read_vector("map/Kxx", 2);
+  EXPECT_GT(kxx[1], kxx[0]);  // stiffer at higher eccentricity
+}
+
+TEST(bearing_input, BadInputNamesTheKeyAndLeavesNoOutput) {
+  const auto toml = scratch("bad.toml"), h5 = scratch("bad.h5");
+  std::filesystem::remove(h5);
+  std::string text = kShortBearing;
+  text.replace(text.find("radial_clearance = 25e-6"), 24, "radial_clearance = 0.0  ");
+  write(toml, text);
+  testing::internal::CaptureStderr();
+  EXPECT_EQ(run({toml.string(), "-o", h5.string()}), 1);
+  const std::string err = testing::internal::GetCapturedStderr();
+  EXPECT_NE(err.find("bad.toml:6"), std::string::npos) << err;
+  EXPECT_NE(err.find("radial_clearance"), std::string::npos) << err;
+  EXPECT_FALSE(std::filesystem::exists(h5));
+
+  text = kShortBearing;
+  text.replace(text.find("viscosity = 0.01"), 16, "viscosity = -0.1");
+  write(toml, text);
+  testing::internal::CaptureStderr();
+  EXPECT_EQ(run({toml.string(), "-o", h5.string()}), 1);
+  EXPECT_NE(testing::internal::GetCapturedStderr().find("viscosity"), std::string::npos);
+
+  write(toml, kShortBearing);
+  testing::internal::CaptureStderr();
+  EXPECT_EQ(run({toml.string(), "-o", h5.string(), "--eccentricities", "0.5,1.0"}), 1);
+  EXPECT_NE(testing::internal::GetCapturedStderr().find("outside (0, 1)"), std::string::npos);
+  EXPECT_FALSE(std::filesystem::exists(h5));
+
+  testing::internal::CaptureStderr();
+  EXPECT_EQ(run({toml.string()}), 2);  // no -o
+  testing::internal::GetCapturedStderr();
+}
+
+TEST(bearing_input, ReaderReadsFeedsAndLeavesFinishToTheCaller) {
+  const input::Document doc = input::Document::parse(R"([[force]]
+type = "journal-bearing"
+diameter = 0.06
+width = 0.03
+radial_clearance = 35e-6
+viscosity = 0.01
+barus = 2e-8
+grid = [90, 24]
+[[force.groove]]
+kind = "circumferential"
+width = 0.004
+)",
+                                                     "scene.toml");
+  const input::Table t = doc.root().table_array("force")[0];
+  const BearingSpec s = read_bearing(t);
+  EXPECT_EQ(t.string("type"), "journal-bearing");  // the scene reader's own key
+  t.finish();
+  EXPECT_EQ(s.cells_around, 90);
+  ASSERT_EQ(s.grooves.size(), 1u);
+  EXPECT_NEAR(s.grooves[0].arc_end - s.grooves[0].arc_start, 2 * kPi, 1e-12);
+  EXPECT_DOUBLE_EQ(s.barus, 2e-8);
+}
+
+}  // namespace
+}  // namespace nvh::bearing
