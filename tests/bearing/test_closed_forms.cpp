@@ -210,7 +210,7 @@ TEST(bearing_short, RotatingLoadOrbitCloses) {
     gap = std::max(gap, (last_cycle[n] - previous_cycle[n]).norm());
     radius_error = std::max(radius_error, std::abs(last_cycle[n].norm() / c - eps_ref));
   }
-  EXPECT_LT(gap / c, 2e-5);  // measured 5.3e-6: the transient decays by about 10x per cycle
+  EXPECT_LT(gap / c, 2e-5);  // measured 5.3e-6 after 8 cycles
   EXPECT_LT(radius_error, 1e-4);
   std::printf("rotating load: orbit gap between cycles 7 and 8 = %.1e c, |eps - eps_Ocvirk| = %.1e\n",
               gap / c, radius_error);
