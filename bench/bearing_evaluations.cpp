@@ -65,7 +65,8 @@ int main(int argc, char** argv) {
   const double c = s_short.radial_clearance;
   const double short_rate = per_second([&](int i) { evaluate_short(s_short, orbit_point(i, c)); }, seconds);
   std::printf("%-34s %14s %12s %10s\n", "model", "evals/s", "ms/eval", "cost/short");
-  std::printf("%-34s %14.0f %12.4f %10.0f\n", "short (Ocvirk, closed form)", short_rate, 1e3 / short_rate, 1.0);
+  std::printf("%-34s %14.0f %12.4f %10.0f\n", "short (Ocvirk, closed form)", short_rate, 1e3 / short_rate,
+              1.0);
   for (auto [around, across] : {std::pair{60, 20}, std::pair{180, 40}}) {
     for (bool warm : {true, false}) {
       FiniteBearing b(spec(Model::kFinite, around, across));
