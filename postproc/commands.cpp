@@ -272,8 +272,16 @@ void run_octave(const OctaveCommand& command, const Logger& log, int argc, const
     throw Error("octave: method '" + command.method + "': expected filter or fft");
   if (command.weighting != "Z" && command.weighting != "A")
     throw Error("octave: weighting '" + command.weighting + "': expected Z (none) or A");
-  const std::vector<Band> bands = fractional_octave_bands(command.fraction, command.fmin_hz, command.fmax_hz);
   std::vector<SignalSource> sources = open_signals(common);
+  double fmax = command.fmax_hz;
+  if (fmax <= 0.0) {
+    // Default: up to 10 kHz, but only bands whose upper edge stays below every signal's Nyquist frequency.
+    fmax = 10000.0;
+    const double half_band = std::pow(10.0, 0.3 / (2.0 * command.fraction));
+    for (const SignalSource& s : sources)
+      fmax = std::min(fmax, 0.999 * s.info().sample_rate_hz / 2.0 / half_band / std::sqrt(half_band));
+  }
+  const std::vector<Band> bands = fractional_octave_bands(command.fraction, command.fmin_hz, fmax);
   // Check every signal before writing anything.
   for (const SignalSource& s : sources)
     OctaveFilterBank check(bands, s.info().sample_rate_hz, 0.0, s.info().address);

@@ -36,7 +36,8 @@ struct SpectrumCommand {
 struct OctaveCommand {
   CommonOptions common;
   int fraction = 3;  ///< b of 1/b octave
-  double fmin_hz = 20.0, fmax_hz = 10000.0;
+  double fmin_hz = 20.0;
+  double fmax_hz = 0.0;           ///< 0: 10 kHz or the highest band below every signal's Nyquist frequency
   std::string method = "filter";  ///< "filter" (time-domain bank) or "fft" (band summation)
   std::string weighting = "Z";    ///< "Z" (none) or "A"
   double interval_s = 0.0;        ///< Leq interval (filter method); 0: none

@@ -62,6 +62,7 @@ int main(int argc, char** argv) {
   install_interrupt_handler("postproc");
   CLI::App app{kDescription, "postproc"};
   app.require_subcommand(1);
+  app.fallthrough();  // -q / -v also after the subcommand
   app.set_version_flag("--version", std::string("postproc ") + kVersion);
   bool quiet = false, verbose = false;
   CLI::Option* quiet_flag = app.add_flag("-q,--quiet", quiet, "print errors only");
@@ -98,7 +99,8 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   o->add_option("--fmin", octave.fmin_hz, "lowest band (nominal mid-band), Hz (default 20)")
       ->check(CLI::PositiveNumber);
-  o->add_option("--fmax", octave.fmax_hz, "highest band, Hz (default 10000)")->check(CLI::PositiveNumber);
+  o->add_option("--fmax", octave.fmax_hz, "highest band, Hz (default: 10000 or the highest below Nyquist)")
+      ->check(CLI::PositiveNumber);
   o->add_option("--method", octave.method, "filter (time-domain bank, default) or fft (band summation)")
       ->check(CLI::IsMember({"filter", "fft"}));
   o->add_option("--weighting", octave.weighting, "Z (none, default) or A (IEC 61672-1)")

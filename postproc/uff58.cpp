@@ -63,8 +63,9 @@ class LineReader {
     pos_ += n;
     return out;
   }
-  [[noreturn]] void fail(const std::string& what) const {
-    throw Error(file_ + ":" + std::to_string(line_) + ": dataset 58: " + what);
+  [[noreturn]] void fail(const std::string& what) const { fail_at(line_, what); }
+  [[noreturn]] void fail_at(int line, const std::string& what) const {
+    throw Error(file_ + ":" + std::to_string(line) + ": dataset 58: " + what);
   }
   int line() const { return line_; }
 
@@ -103,6 +104,7 @@ Uff58Record read_record(LineReader& r, bool binary, int byte_order, std::size_t 
         rec.response_direction;
   }
   const std::string r7 = r.require("record 7 (data form)");
+  const int r7_line = r.line();
   const int data_type = static_cast<int>(fixed_double(r7, 0, 10, r, "ordinate data type"));
   const auto points = static_cast<std::int64_t>(fixed_double(r7, 10, 10, r, "number of points"));
   const int even = static_cast<int>(fixed_double(r7, 20, 10, r, "abscissa spacing"));
@@ -165,8 +167,9 @@ Uff58Record read_record(LineReader& r, bool binary, int byte_order, std::size_t 
       if (trim(std::string(p)).size() > 0) r.fail("'" + trim(std::string(p)) + "' is not a number");
     }
     if (static_cast<std::int64_t>(raw.size()) != count)
-      r.fail("record 7 announces " + std::to_string(points) + " points, found " +
-             std::to_string(raw.size() / per_point));
+      r.fail_at(r7_line, "record 7 announces " + std::to_string(points) + " points, found " +
+                             std::to_string(raw.size() / per_point) + " (data ends at line " +
+                             std::to_string(r.line()) + ")");
   }
   if (even) {
     rec.values = std::move(raw);
