@@ -520,6 +520,21 @@ void AppendableDataset::append(std::span<const double> row_major_values) {
   }
   const hsize_t new_rows = row_major_values.size() / columns_;
   if (new_rows == 0) return;
+  if (rank_ == 1) {
+    const hsize_t extent1[1] = {rows_ + new_rows};
+    check_status(H5Dset_extent(dataset_.get(), extent1), path_, "cannot extend");
+    const Handle space1(check_id(H5Dget_space(dataset_.get()), path_, "cannot get the dataspace"));
+    const hsize_t start1[1] = {rows_};
+    const hsize_t count1[1] = {new_rows};
+    check_status(H5Sselect_hyperslab(space1.get(), H5S_SELECT_SET, start1, nullptr, count1, nullptr), path_,
+                 "cannot select the new rows");
+    const Handle memory1(check_id(H5Screate_simple(1, count1, nullptr), path_, "cannot create a dataspace"));
+    check_status(H5Dwrite(dataset_.get(), H5T_NATIVE_DOUBLE, memory1.get(), space1.get(), H5P_DEFAULT,
+                          row_major_values.data()),
+                 path_, "cannot append rows");
+    rows_ += new_rows;
+    return;
+  }
   // Grow the dataset, then write into the new rows: a hyperslab of the file's dataspace.
   const hsize_t extent[2] = {rows_ + new_rows, columns_};
   check_status(H5Dset_extent(dataset_.get(), extent), path_, "cannot extend");
@@ -534,6 +549,14 @@ void AppendableDataset::append(std::span<const double> row_major_values) {
                         row_major_values.data()),
                path_, "cannot append rows");
   rows_ += new_rows;
+}
+
+void AppendableDataset::truncate(hsize_t rows) {
+  if (!dataset_.valid()) throw Error("truncate() on an AppendableDataset not made by Group::create_appendable");
+  if (rows >= rows_) return;
+  const hsize_t extent[2] = {rows, columns_};
+  check_status(H5Dset_extent(dataset_.get(), extent), path_, "cannot shrink");
+  rows_ = rows;
 }
 
 void AppendableDataset::flush() {
@@ -685,15 +708,37 @@ AppendableDataset Group::create_appendable(std::string_view name, hsize_t column
 AppendableDataset Group::open_appendable(std::string_view name) {
   Source source = open_dataset(handle_.get(), name, where(name));
   const Extent extent = extent_of(source);
-  if (extent.null || extent.dims.size() != 2 || extent.max_dims[0] != H5S_UNLIMITED) {
-    fail(source.where, "expected an appendable 2-D dataset (unlimited rows), found " + extent.describe());
+  if (extent.null || extent.dims.empty() || extent.dims.size() > 2 || extent.max_dims[0] != H5S_UNLIMITED) {
+    fail(source.where, "expected an appendable dataset (unlimited rows), found " + extent.describe());
   }
   require_numeric(source, type_of(source), false);
   AppendableDataset appendable;
   appendable.dataset_ = std::move(source.object);
   appendable.path_ = source.where;
   appendable.rows_ = extent.dims[0];
-  appendable.columns_ = extent.dims[1];
+  appendable.rank_ = static_cast<int>(extent.dims.size());
+  appendable.columns_ = appendable.rank_ == 2 ? extent.dims[1] : 1;
+  return appendable;
+}
+
+AppendableDataset Group::create_appendable_vector(std::string_view name, const Chunking& chunking) {
+  const std::string location = where(name);
+  require_new(handle_.get(), name, location);
+  std::vector<hsize_t> chunk = chunking.chunk;
+  if (chunk.empty()) chunk = {kChunkTargetValues};
+  if (chunk.size() != 1 || chunk[0] == 0) fail(location, "the chunk of a 1-D appendable dataset is (rows) > 0");
+  const hsize_t dims[1] = {0};
+  const hsize_t max_dims[1] = {H5S_UNLIMITED};
+  const Handle space(check_id(H5Screate_simple(1, dims, max_dims), location, "cannot create a dataspace"));
+  const Handle dcpl = dataset_creation_plist(chunk, chunking.deflate_level, location);
+  const Handle lcpl = intermediate_groups_lcpl();
+  AppendableDataset appendable;
+  appendable.dataset_ = Handle(check_id(H5Dcreate2(handle_.get(), std::string(name).c_str(), H5T_IEEE_F64LE,
+                                                   space.get(), lcpl.get(), dcpl.get(), H5P_DEFAULT),
+                                        location, "cannot create dataset"));
+  appendable.path_ = location;
+  appendable.columns_ = 1;
+  appendable.rank_ = 1;
   return appendable;
 }
 

@@ -60,6 +60,8 @@ class AppendableDataset {
   hsize_t columns() const { return columns_; }
   /// Write pending data to disk (H5Dflush) so a killed run keeps it.
   void flush();
+  /// Shrink to the first `rows` rows (a restart drops the rows written after its checkpoint).
+  void truncate(hsize_t rows);
 
  private:
   friend class Group;
@@ -67,6 +69,7 @@ class AppendableDataset {
   std::string path_;  // for error messages: "file.h5:/group/name"
   hsize_t rows_ = 0;
   hsize_t columns_ = 0;
+  int rank_ = 2;  // 1 for a growing vector (create_appendable_vector)
 };
 
 /// An HDF5 group (the root group "/" included). Paths are relative to this group; "a/b/c" is allowed.
@@ -110,7 +113,9 @@ class Group {
 
   /// An extendible, chunked, compressed 2-D dataset (unlimited rows, fixed columns).
   AppendableDataset create_appendable(std::string_view name, hsize_t columns, const Chunking& chunking = {});
-  /// Reopen a dataset made by create_appendable to append more rows (restart with File::open_append).
+  /// An extendible 1-D dataset (a time history of one scalar): shape (n,), one value per row.
+  AppendableDataset create_appendable_vector(std::string_view name, const Chunking& chunking = {});
+  /// Reopen a dataset made by create_appendable(_vector) to append more rows (restart with File::open_append).
   AppendableDataset open_appendable(std::string_view name);
 
   // --- attributes on this group (or, with `object`, on a member dataset/group) ---

@@ -620,6 +620,25 @@ std::vector<std::array<double, 3>> Table::vec3_list(std::string_view key) const 
   return out;
 }
 
+std::vector<std::vector<double>> Table::number_rows(std::string_view key, std::size_t columns) const {
+  const std::string expected = "an array of rows of " + std::to_string(columns) + " numbers [[a, b, ...], ...]";
+  const toml::value* v = impl_->lookup(key);
+  if (!v) impl_->missing(key, expected);
+  const std::string kp = impl_->key_path(key);
+  const auto& a = impl_->to_array(*v, kp, expected);
+  std::vector<std::vector<double>> out;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const std::string rp = indexed(kp, i);
+    const auto& row = impl_->to_array(a[i], rp, expected);
+    if (row.size() != columns)
+      impl_->fail_at(a[i], rp, "expected " + std::to_string(columns) + " numbers, got " + std::to_string(row.size()));
+    std::vector<double> r;
+    for (std::size_t j = 0; j < columns; ++j) r.push_back(impl_->to_number(row[j], indexed(rp, j), Range{}));
+    out.push_back(std::move(r));
+  }
+  return out;
+}
+
 Table Table::table(std::string_view key) const {
   const toml::value* v = impl_->lookup(key);
   const std::string kp = impl_->key_path(key);

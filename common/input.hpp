@@ -101,6 +101,8 @@ class Table {
   std::optional<std::array<double, 3>> optional_vec3(std::string_view key) const;
   /// An array of 3-vectors: [[x,y,z], ...].
   std::vector<std::array<double, 3>> vec3_list(std::string_view key) const;
+  /// An array of rows of exactly `columns` numbers: [[x, y], ...] (tables, matrices).
+  std::vector<std::vector<double>> number_rows(std::string_view key, std::size_t columns) const;
 
   // --- nested tables ---
   Table table(std::string_view key) const;

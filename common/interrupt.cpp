@@ -20,9 +20,15 @@ struct Slot {
 };
 Slot g_slots[kSlots];
 char g_tool[64] = "nvh";
+volatile std::sig_atomic_t g_graceful = 0;
+volatile std::sig_atomic_t g_requested = 0;
 
 // Async-signal-safe: unlink, write and _exit only.
 extern "C" void on_interrupt(int signal_number) {
+  if (g_graceful && !g_requested) {
+    g_requested = signal_number;
+    return;
+  }
   for (Slot& slot : g_slots) {
     if (slot.used.load()) ::unlink(slot.path);
   }
@@ -44,6 +50,10 @@ void install_interrupt_handler(const char* tool) {
   sigaction(SIGINT, &action, nullptr);
   sigaction(SIGTERM, &action, nullptr);
 }
+
+void set_graceful_interrupt(bool on) { g_graceful = on ? 1 : 0; }
+bool interrupt_requested() { return g_requested != 0; }
+int interrupt_signal() { return g_requested; }
 
 void register_temporary(const std::filesystem::path& path) {
   const std::string text = path.string();

@@ -12,6 +12,14 @@ namespace nvh {
 /// Install the handlers once per process (the tools' main() calls it first).
 void install_interrupt_handler(const char* tool);
 
+/// Graceful mode (solve's time loop): a signal only sets a flag that the loop polls with
+/// interrupt_requested(), so it can flush its output and write a checkpoint before exiting with code 3.
+/// A second signal while the flag is set exits at once, as in the default mode.
+void set_graceful_interrupt(bool on);
+bool interrupt_requested();
+/// The signal that set the flag (SIGINT or SIGTERM), 0 if none.
+int interrupt_signal();
+
 /// Temporary files to remove on interruption (h5::File registers its temporaries).
 void register_temporary(const std::filesystem::path& path);
 void unregister_temporary(const std::filesystem::path& path);

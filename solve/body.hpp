@@ -1,0 +1,198 @@
+#pragma once
+// A body of the multibody system: its coordinates, its markers, its inertia.
+//
+// Coordinates per body (SI units): positions q (translation in m, Euler parameters, modal coordinates), velocities
+// w (translational velocity of the reference point in global axes in m/s, angular velocity in BODY axes in rad/s,
+// modal velocities), and algebraic multipliers (the Euler parameter normalization). The kinematic equations
+// are q' = H(q) w; the equations of motion M(q) w' + h(q, w) = Q + Q_gravity - C^T lambda.
+//
+// A marker is a frame on a body (origin and axes). A body tells, for each marker, its motion in global axes and
+// the Jacobians of the marker's velocity and angular velocity with respect to w:
+//   v_marker = Jv w,  omega_marker = Jw w   (global axes).
+// By virtual power, a force F and torque T (global) acting at the marker give the generalized force
+//   Q = Jv^T F + Jw^T T,
+// which is how every force element and constraint reaction enters the equations.
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "solve/rotation.hpp"
+
+namespace nvh::solve {
+
+/// A marker's pose and motion in global axes.
+struct MarkerMotion {
+  Vec3 position = Vec3::Zero();
+  Mat3 axes = Mat3::Identity();  // columns: the marker's x, y, z in global axes
+  Vec3 velocity = Vec3::Zero();
+  Vec3 angular_velocity = Vec3::Zero();
+};
+
+/// d(velocity)/dw and d(angular velocity)/dw of a marker: 3 x (body's velocity count), global axes.
+struct MarkerJacobian {
+  Eigen::Matrix<double, 3, Eigen::Dynamic> jv;
+  Eigen::Matrix<double, 3, Eigen::Dynamic> jw;
+  /// The same for a point rigidly attached to the marker at global offset d from its origin.
+  MarkerJacobian shifted(const Vec3& d) const { return {jv - skew(d) * jw, jw}; }
+};
+
+/// A marker as defined on the body, in the body's reference frame.
+struct MarkerDefinition {
+  std::string name;
+  Vec3 position = Vec3::Zero();  // m, body axes, from the body reference point
+  Mat3 axes = Mat3::Identity();  // columns x, y, z in body axes
+  int node = -1;                 // flexible bodies: the superelement point it sits on
+};
+
+class Body {
+ public:
+  explicit Body(std::string name) : name_(std::move(name)) {}
+  virtual ~Body() = default;
+
+  const std::string& name() const { return name_; }
+  virtual std::string kind() const = 0;
+
+  virtual int position_count() const = 0;   // size of q
+  virtual int velocity_count() const = 0;   // size of w
+  virtual int algebraic_count() const { return 0; }  // multipliers owned by the body (normalization)
+  int state_count() const { return position_count() + velocity_count() + algebraic_count(); }
+
+  /// Initial q and w (set by the scene), in the layout of this body.
+  virtual Eigen::VectorXd initial_positions() const = 0;
+  virtual Eigen::VectorXd initial_velocities() const = 0;
+
+  /// Kinematic residual rows (size of q): q' - H(q) w_eff, and the algebraic rows (e.g. p.p - 1).
+  /// `alg` are the body's algebraic variables; for Euler parameters the GGL form q' = H w_eff + p nu.
+  virtual void kinematic_residual(std::span<const double> q, std::span<const double> qdot,
+                                  std::span<const double> w_eff, std::span<const double> alg,
+                                  std::span<double> rows, std::span<double> alg_rows) const = 0;
+  /// q' = H(q) w for given w (consistent initial derivatives; projections).
+  virtual Eigen::VectorXd position_rates(std::span<const double> q, std::span<const double> w) const = 0;
+
+  /// Inertial rows (size of w): M(q) w' + h(q, w) - Q_gravity.
+  virtual void inertia_residual(std::span<const double> q, std::span<const double> w,
+                                std::span<const double> wdot, const Vec3& gravity,
+                                std::span<double> rows) const = 0;
+  /// The mass matrix M(q) (consistent initial accelerations).
+  virtual Eigen::MatrixXd mass_matrix(std::span<const double> q) const = 0;
+
+  /// Markers.
+  int add_marker(MarkerDefinition m) {
+    markers_.push_back(std::move(m));
+    return static_cast<int>(markers_.size()) - 1;
+  }
+  const std::vector<MarkerDefinition>& markers() const { return markers_; }
+  int find_marker(const std::string& name) const;
+
+  virtual MarkerMotion marker_motion(int marker, std::span<const double> q,
+                                     std::span<const double> w) const = 0;
+  virtual MarkerJacobian marker_jacobian(int marker, std::span<const double> q) const = 0;
+
+  /// Position of the body reference point and its rotation (output; identity where not defined).
+  virtual Vec3 reference_position(std::span<const double> q) const = 0;
+  virtual Mat3 rotation(std::span<const double> q) const = 0;
+  /// Kinetic energy (tests, output).
+  virtual double kinetic_energy(std::span<const double> q, std::span<const double> w) const = 0;
+
+ private:
+  std::string name_;
+  std::vector<MarkerDefinition> markers_;
+};
+
+/// The fixed ground: no coordinates; markers never move.
+class Ground final : public Body {
+ public:
+  using Body::Body;
+  std::string kind() const override { return "ground"; }
+  int position_count() const override { return 0; }
+  int velocity_count() const override { return 0; }
+  Eigen::VectorXd initial_positions() const override { return {}; }
+  Eigen::VectorXd initial_velocities() const override { return {}; }
+  void kinematic_residual(std::span<const double>, std::span<const double>, std::span<const double>,
+                          std::span<const double>, std::span<double>, std::span<double>) const override {}
+  Eigen::VectorXd position_rates(std::span<const double>, std::span<const double>) const override { return {}; }
+  void inertia_residual(std::span<const double>, std::span<const double>, std::span<const double>,
+                        const Vec3&, std::span<double>) const override {}
+  Eigen::MatrixXd mass_matrix(std::span<const double>) const override { return {}; }
+  MarkerMotion marker_motion(int marker, std::span<const double>, std::span<const double>) const override;
+  MarkerJacobian marker_jacobian(int, std::span<const double>) const override;
+  Vec3 reference_position(std::span<const double>) const override { return Vec3::Zero(); }
+  Mat3 rotation(std::span<const double>) const override { return Mat3::Identity(); }
+  double kinetic_energy(std::span<const double>, std::span<const double>) const override { return 0; }
+};
+
+/// Initial pose and motion of a body (global axes).
+struct InitialState {
+  Vec3 position = Vec3::Zero();            // m, of the reference point
+  Mat3 orientation = Mat3::Identity();     // body -> global
+  Vec3 velocity = Vec3::Zero();            // m/s
+  Vec3 angular_velocity = Vec3::Zero();    // rad/s, global axes
+};
+
+/// A rigid body: reference point at the centre of mass; q = [r (3), p (4)], w = [v (3, global), omega (3, body)].
+/// Euler parameter normalization by a stabilized kinematic equation p' = 1/2 L^T omega - beta (p.p - 1) p
+/// (an algebraic multiplier for p.p = 1 would be an index-2 variable that spoils Newton's convergence test
+/// at small steps; the invariant form keeps the exact solution and needs none).
+class RigidBody final : public Body {
+ public:
+  RigidBody(std::string name, double mass, const Mat3& inertia_cm, InitialState init);
+  std::string kind() const override { return "rigid"; }
+  int position_count() const override { return 7; }
+  int velocity_count() const override { return 6; }
+  Eigen::VectorXd initial_positions() const override;
+  static constexpr double kNormalizationRate = 100.0;  // beta, 1/s
+  Eigen::VectorXd initial_velocities() const override;
+  void kinematic_residual(std::span<const double> q, std::span<const double> qdot,
+                          std::span<const double> w_eff, std::span<const double> alg, std::span<double> rows,
+                          std::span<double> alg_rows) const override;
+  Eigen::VectorXd position_rates(std::span<const double> q, std::span<const double> w) const override;
+  void inertia_residual(std::span<const double> q, std::span<const double> w, std::span<const double> wdot,
+                        const Vec3& gravity, std::span<double> rows) const override;
+  Eigen::MatrixXd mass_matrix(std::span<const double> q) const override;
+  MarkerMotion marker_motion(int marker, std::span<const double> q,
+                             std::span<const double> w) const override;
+  MarkerJacobian marker_jacobian(int marker, std::span<const double> q) const override;
+  Vec3 reference_position(std::span<const double> q) const override;
+  Mat3 rotation(std::span<const double> q) const override;
+  double kinetic_energy(std::span<const double> q, std::span<const double> w) const override;
+
+  double mass() const { return mass_; }
+  const Mat3& inertia() const { return inertia_; }
+
+ private:
+  double mass_;
+  Mat3 inertia_;  // kg m^2 about the centre of mass, body axes
+  InitialState init_;
+};
+
+/// A point mass (multi-mass chains): q = r (3), w = v (3); markers sit on the point, axes parallel to global.
+class PointMass final : public Body {
+ public:
+  PointMass(std::string name, double mass, InitialState init);
+  std::string kind() const override { return "point-mass"; }
+  int position_count() const override { return 3; }
+  int velocity_count() const override { return 3; }
+  Eigen::VectorXd initial_positions() const override;
+  Eigen::VectorXd initial_velocities() const override;
+  void kinematic_residual(std::span<const double> q, std::span<const double> qdot,
+                          std::span<const double> w_eff, std::span<const double> alg, std::span<double> rows,
+                          std::span<double> alg_rows) const override;
+  Eigen::VectorXd position_rates(std::span<const double> q, std::span<const double> w) const override;
+  void inertia_residual(std::span<const double> q, std::span<const double> w, std::span<const double> wdot,
+                        const Vec3& gravity, std::span<double> rows) const override;
+  Eigen::MatrixXd mass_matrix(std::span<const double> q) const override;
+  MarkerMotion marker_motion(int marker, std::span<const double> q,
+                             std::span<const double> w) const override;
+  MarkerJacobian marker_jacobian(int marker, std::span<const double> q) const override;
+  Vec3 reference_position(std::span<const double> q) const override;
+  Mat3 rotation(std::span<const double>) const override { return Mat3::Identity(); }
+  double kinetic_energy(std::span<const double> q, std::span<const double> w) const override;
+  double mass() const { return mass_; }
+
+ private:
+  double mass_;
+  InitialState init_;
+};
+
+}  // namespace nvh::solve

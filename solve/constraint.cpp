@@ -1,0 +1,120 @@
+// Joint primitives and the joints built from them (see constraint.hpp).
+#include "solve/constraint.hpp"
+
+#include <cmath>
+
+namespace nvh::solve {
+namespace {
+
+// Rows of the primitives, written into `out` from row `r`.
+void point(const MarkerMotion& i, const MarkerMotion& j, ConstraintEquations& out, int r) {
+  out.phi.segment<3>(r) = i.position - j.position;
+  out.di.block<3, 3>(r, 0) = Mat3::Identity();
+  out.dj.block<3, 3>(r, 0) = -Mat3::Identity();
+}
+
+// a_i . b_j = 0: d/dt = omega_i . (a_i x b_j) + omega_j . (b_j x a_i).
+void dot1(const Vec3& a_i, const Vec3& b_j, ConstraintEquations& out, int r) {
+  out.phi[r] = a_i.dot(b_j);
+  out.di.block<1, 3>(r, 3) = a_i.cross(b_j).transpose();
+  out.dj.block<1, 3>(r, 3) = b_j.cross(a_i).transpose();
+}
+
+// b_j . d = 0 with d = p_i - p_j: d/dt = b_j . (v_i - v_j) + omega_j . (b_j x d).
+void dot2(const MarkerMotion& i, const MarkerMotion& j, const Vec3& b_j, ConstraintEquations& out, int r) {
+  const Vec3 d = i.position - j.position;
+  out.phi[r] = b_j.dot(d);
+  out.di.block<1, 3>(r, 0) = b_j.transpose();
+  out.dj.block<1, 3>(r, 0) = -b_j.transpose();
+  out.dj.block<1, 3>(r, 3) = b_j.cross(d).transpose();
+}
+
+class Joint final : public Constraint {
+ public:
+  explicit Joint(JointType t) : type_(t) {}
+  std::string type() const override {
+    switch (type_) {
+      case JointType::kFixed: return "fixed";
+      case JointType::kRevolute: return "revolute";
+      case JointType::kSpherical: return "spherical";
+      case JointType::kPrismatic: return "prismatic";
+      case JointType::kCylindrical: return "cylindrical";
+    }
+    return "?";
+  }
+  int size() const override { return static_cast<int>(equation_names().size()); }
+  std::vector<std::string> equation_names() const override {
+    const std::vector<std::string> pt = {"point-x", "point-y", "point-z"};
+    const std::vector<std::string> axis = {"z_i.x_j", "z_i.y_j"};
+    const std::vector<std::string> line = {"x_j.d", "y_j.d"};
+    auto cat = [](std::vector<std::string> a, const std::vector<std::string>& b) {
+      a.insert(a.end(), b.begin(), b.end());
+      return a;
+    };
+    switch (type_) {
+      case JointType::kSpherical: return pt;
+      case JointType::kRevolute: return cat(pt, axis);
+      case JointType::kFixed: return cat(cat(pt, axis), {"x_i.y_j"});
+      case JointType::kCylindrical: return cat(axis, line);
+      case JointType::kPrismatic: return cat(cat(axis, line), {"x_i.y_j"});
+    }
+    return {};
+  }
+  void evaluate(double, const MarkerMotion& i, const MarkerMotion& j, ConstraintEquations& out) const override {
+    const Vec3 xi = i.axes.col(0), zi = i.axes.col(2);
+    const Vec3 xj = j.axes.col(0), yj = j.axes.col(1);
+    switch (type_) {
+      case JointType::kSpherical: point(i, j, out, 0); break;
+      case JointType::kRevolute:
+        point(i, j, out, 0);
+        dot1(zi, xj, out, 3);
+        dot1(zi, yj, out, 4);
+        break;
+      case JointType::kFixed:
+        point(i, j, out, 0);
+        dot1(zi, xj, out, 3);
+        dot1(zi, yj, out, 4);
+        dot1(xi, yj, out, 5);
+        break;
+      case JointType::kCylindrical:
+        dot1(zi, xj, out, 0);
+        dot1(zi, yj, out, 1);
+        dot2(i, j, xj, out, 2);
+        dot2(i, j, yj, out, 3);
+        break;
+      case JointType::kPrismatic:
+        dot1(zi, xj, out, 0);
+        dot1(zi, yj, out, 1);
+        dot2(i, j, xj, out, 2);
+        dot2(i, j, yj, out, 3);
+        dot1(xi, yj, out, 4);
+        break;
+    }
+  }
+
+ private:
+  JointType type_;
+};
+
+}  // namespace
+
+std::unique_ptr<Constraint> make_joint(JointType type) { return std::make_unique<Joint>(type); }
+
+double relative_angle(const MarkerMotion& i, const MarkerMotion& j) {
+  const Vec3 xi = i.axes.col(0);
+  return std::atan2(xi.dot(j.axes.col(1)), xi.dot(j.axes.col(0)));
+}
+
+// Phi = x_i . b with b = cos(theta) y_j - sin(theta) x_j, i.e. sin(angle - theta) for a revolute pair.
+void AngleDriver::evaluate(double t, const MarkerMotion& i, const MarkerMotion& j,
+                           ConstraintEquations& out) const {
+  const double th = theta_(t), c = std::cos(th), s = std::sin(th);
+  const Vec3 xi = i.axes.col(0), xj = j.axes.col(0), yj = j.axes.col(1);
+  const Vec3 b = c * yj - s * xj;
+  out.phi[0] = xi.dot(b);
+  out.di.block<1, 3>(0, 3) = xi.cross(b).transpose();
+  out.dj.block<1, 3>(0, 3) = b.cross(xi).transpose();
+  out.phi_t[0] = xi.dot(-s * yj - c * xj) * rate_(t);
+}
+
+}  // namespace nvh::solve

@@ -1,0 +1,70 @@
+#pragma once
+// Ideal joints and prescribed motions as algebraic constraints between two markers i and j.
+//
+// A constraint of m equations gives its position-level residual Phi (m), and its velocity-level form
+//   d Phi/dt = Di [v_i; omega_i] + Dj [v_j; omega_j] + Phi_t
+// in terms of the two markers' velocities and angular velocities (global axes). The model maps Di, Dj onto
+// the bodies' velocity coordinates through the marker Jacobians (body.hpp): C = Di [Jv_i; Jw_i] + ...
+//
+// Joints are built from the classic primitives (Haug, Computer-Aided Kinematics and Dynamics of Mechanical
+// Systems, Allyn and Bacon 1989, section 9.2; Nikravesh 1988, chapter 7):
+//   point:   p_i - p_j = 0                         (3 equations)
+//   dot-1:   a_i . b_j = 0                         (two axes stay perpendicular)
+//   dot-2:   b_j . (p_i - p_j) = 0                 (the point of i stays in a plane of j)
+//   angle:   x_i . (cos(theta) y_j - sin(theta) x_j) = 0  (relative rotation about z equals theta(t))
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "solve/body.hpp"
+
+namespace nvh::solve {
+
+struct ConstraintEquations {
+  Eigen::VectorXd phi;              // m
+  Eigen::Matrix<double, Eigen::Dynamic, 6> di;  // m x 6 ([v; omega] of marker i)
+  Eigen::Matrix<double, Eigen::Dynamic, 6> dj;
+  Eigen::VectorXd phi_t;            // m
+
+  explicit ConstraintEquations(int m)
+      : phi(Eigen::VectorXd::Zero(m)), di(Eigen::MatrixXd::Zero(m, 6)), dj(Eigen::MatrixXd::Zero(m, 6)),
+        phi_t(Eigen::VectorXd::Zero(m)) {}
+};
+
+class Constraint {
+ public:
+  virtual ~Constraint() = default;
+  virtual std::string type() const = 0;
+  virtual int size() const = 0;
+  /// Names of the equations, for the report of redundant ones (e.g. "point-x", "dot1(z_i,x_j)").
+  virtual std::vector<std::string> equation_names() const = 0;
+  virtual void evaluate(double t, const MarkerMotion& i, const MarkerMotion& j, ConstraintEquations& out) const = 0;
+};
+
+enum class JointType { kFixed, kRevolute, kSpherical, kPrismatic, kCylindrical };
+
+/// An ideal joint between marker frames i and j (axis: the markers' z).
+std::unique_ptr<Constraint> make_joint(JointType type);
+
+/// The relative rotation angle (rad) of marker i about marker j's z axis: atan2(x_i . y_j, x_i . x_j).
+double relative_angle(const MarkerMotion& i, const MarkerMotion& j);
+
+/// Prescribed relative rotation about the z axis of marker j: angle(t) = theta(t) (rad), with its rate.
+/// Used by speed drivers (constant rpm or a run-up rpm(t)). Use with a revolute (or cylindrical) joint.
+class AngleDriver final : public Constraint {
+ public:
+  /// theta(t) and theta'(t) in rad and rad/s.
+  AngleDriver(std::function<double(double)> theta, std::function<double(double)> theta_rate)
+      : theta_(std::move(theta)), rate_(std::move(theta_rate)) {}
+  std::string type() const override { return "speed-driver"; }
+  int size() const override { return 1; }
+  std::vector<std::string> equation_names() const override { return {"angle"}; }
+  void evaluate(double t, const MarkerMotion& i, const MarkerMotion& j, ConstraintEquations& out) const override;
+
+ private:
+  std::function<double(double)> theta_;
+  std::function<double(double)> rate_;
+};
+
+}  // namespace nvh::solve

@@ -1,0 +1,200 @@
+// Generalized-alpha for first-order systems (Jansen, Whiting and Hulbert, Comput. Methods Appl. Mech. Engrg.
+// 190, 2000, eq. 7-9 and 17-19) applied to the same residual F(t, y, y') = 0 as IDA:
+//   y_{n+1}       = y_n + h y'_n + h gamma (y'_{n+1} - y'_n)
+//   F(t_n + alpha_f h, y_n + alpha_f (y_{n+1} - y_n), y'_n + alpha_m (y'_{n+1} - y'_n)) = 0
+//   alpha_m = (3 - rho_inf) / (2 (1 + rho_inf)),  alpha_f = 1 / (1 + rho_inf),  gamma = 1/2 + alpha_m - alpha_f,
+// second order, unconditionally stable for linear problems, with spectral radius rho_inf at h -> infinity
+// (rho_inf = 1: no numerical damping; 0: asymptotic annihilation). On the first-order form of the
+// equations of motion this is the Chung-Hulbert family (Chung and Hulbert, J. Appl. Mech. 60, 1993); it works
+// on the index-2 stabilized constraints of model.hpp like IDA, so both integrators solve the same model.
+// Newton on y'_{n+1} uses the same colored Jacobian with cj = alpha_m / (alpha_f gamma h) and a sparse LU.
+#include <Eigen/SparseLU>
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+#include "common/error.hpp"
+#include "solve/integrator.hpp"
+#include "solve/jacobian.hpp"
+
+namespace nvh::solve {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
+
+class GeneralizedAlpha final : public Integrator {
+ public:
+  GeneralizedAlpha(const Model& model, const IntegratorSettings& s, double t0, const Eigen::VectorXd& y0,
+                   const Eigen::VectorXd& yp0)
+      : model_(model), s_(s), jacobian_(model, s.jacobian == "dense-fd"), t_(t0), y_(y0), yp_(yp0),
+        y_prev_(y0), yp_prev_(yp0), t_prev_(t0), h_(s.step), mask_(model.differential_mask()) {
+    const double rho = s.rho_inf;
+    alpha_m_ = (3 - rho) / (2 * (1 + rho));
+    alpha_f_ = 1 / (1 + rho);
+    gamma_ = 0.5 + alpha_m_ - alpha_f_;
+    const auto& p = jacobian_.pattern();
+    std::vector<Eigen::Triplet<double>> trip;
+    for (int c = 0; c < p.n; ++c)
+      for (int k = p.column_start[c]; k < p.column_start[c + 1]; ++k) trip.emplace_back(p.rows[k], c, 1.0);
+    matrix_.resize(p.n, p.n);
+    matrix_.setFromTriplets(trip.begin(), trip.end());
+    matrix_.makeCompressed();
+    lu_.analyzePattern(matrix_);
+  }
+
+  double advance(double t_target, double t_stop) override {
+    const auto start = Clock::now();
+    while (t_ < t_target - 1e-14 * std::max(1.0, std::abs(t_))) {
+      double h = std::min(h_, t_stop - t_);
+      int halvings = 0;
+      while (!try_step(h)) {
+        ++stats_.rejected_steps;
+        if (!s_.adaptive || ++halvings > 12) fail(h);
+        h *= 0.5;
+        h_ = h;
+        jacobian_fresh_ = false;
+      }
+      ++stats_.steps;
+      stats_.last_step = h;
+      if (s_.adaptive && h_ < s_.step && ++good_steps_ >= 4) {  // grow back towards the nominal step
+        h_ = std::min(s_.step, 2 * h_);
+        good_steps_ = 0;
+        jacobian_fresh_ = false;
+      }
+    }
+    cpu_total_ += seconds(Clock::now() - start);
+    return t_;
+  }
+
+  void interpolate(double t, Eigen::VectorXd& y, Eigen::VectorXd& yp) const override {
+    // Cubic Hermite between the last two steps.
+    const double h = t_ - t_prev_;
+    if (h <= 0) {
+      y = y_;
+      yp = yp_;
+      return;
+    }
+    const double s = (t - t_prev_) / h, s2 = s * s, s3 = s2 * s;
+    const double h00 = 2 * s3 - 3 * s2 + 1, h10 = s3 - 2 * s2 + s, h01 = -2 * s3 + 3 * s2, h11 = s3 - s2;
+    y = h00 * y_prev_ + h10 * h * yp_prev_ + h01 * y_ + h11 * h * yp_;
+    const double d00 = (6 * s2 - 6 * s) / h, d10 = 3 * s2 - 4 * s + 1, d01 = (-6 * s2 + 6 * s) / h, d11 = 3 * s2 - 2 * s;
+    yp = d00 * y_prev_ + d10 * yp_prev_ + d01 * y_ + d11 * yp_;
+  }
+  double time() const override { return t_; }
+  void state(Eigen::VectorXd& y, Eigen::VectorXd& yp) const override {
+    y = y_;
+    yp = yp_;
+  }
+  IntegratorStatistics statistics() const override {
+    IntegratorStatistics s = stats_;
+    s.last_order = 2;
+    s.residual_evaluations += jacobian_.residual_evaluations();
+    s.cpu_factorization_s = std::max(0.0, cpu_total_ - s.cpu_residual_s - s.cpu_jacobian_s);
+    return s;
+  }
+
+ private:
+  bool try_step(double h) {
+    const int n = model_.size();
+    const double cj = alpha_m_ / (alpha_f_ * gamma_ * h);
+    const double ta = t_ + alpha_f_ * h;
+    Eigen::VectorXd a = yp_;  // predictor: constant y'
+    Eigen::VectorXd y1(n), ya(n), ypa(n), f(n), weights(n);
+    for (int k = 0; k < n; ++k) weights[k] = 1.0 / (s_.rtol * std::abs(y_[k]) + s_.atol);
+    auto stage = [&] {
+      y1 = y_ + h * yp_ + h * gamma_ * (a - yp_);
+      ya = y_ + alpha_f_ * (y1 - y_);
+      ypa = yp_ + alpha_m_ * (a - yp_);
+      const auto start = Clock::now();
+      model_.residual(ta, ya.data(), ypa.data(), f.data());
+      ++stats_.residual_evaluations;
+      stats_.cpu_residual_s += seconds(Clock::now() - start);
+    };
+    for (int attempt = 0; attempt < 2; ++attempt) {
+      jacobian_fresh_now_ = false;
+      a = yp_;
+      stage();
+      if (!jacobian_fresh_ || std::abs(cj - cj_) > 1e-12 * cj) factor(ta, ya, ypa, f, cj, h, weights);
+      bool converged = false;
+      double previous = 0;
+      for (int it = 0; it < 8; ++it) {
+        if (!f.allFinite()) break;
+        const Eigen::VectorXd dy = lu_.solve(-f);  // correction of y_alpha
+        ++stats_.linear_solves;
+        ++stats_.newton_iterations;
+        a += dy / (alpha_f_ * gamma_ * h);
+        stage();
+        const double norm = (dy.cwiseProduct(weights).cwiseProduct(mask_)).norm() / std::sqrt(double(n));
+        if (norm < 1e-3 || (it > 0 && norm < 1e-2 && norm < 0.2 * previous)) {
+          converged = f.allFinite();
+          break;
+        }
+        if (it > 1 && norm > 0.9 * previous) break;  // not contracting
+        previous = norm;
+      }
+      if (converged) {
+        t_prev_ = t_;
+        y_prev_ = y_;
+        yp_prev_ = yp_;
+        t_ += h;
+        y_ = y1;
+        yp_ = a;
+        return true;
+      }
+      ++stats_.nonlinear_failures;
+      if (jacobian_fresh_now_) break;
+      jacobian_fresh_ = false;  // retry once with a fresh Jacobian
+    }
+    return false;
+  }
+
+  void factor(double ta, const Eigen::VectorXd& ya, const Eigen::VectorXd& ypa, const Eigen::VectorXd& f,
+              double cj, double h, const Eigen::VectorXd& weights) {
+    const auto start = Clock::now();
+    jacobian_.evaluate(ta, ya, ypa, f, cj, h, weights, values_);
+    ++stats_.jacobian_evaluations;
+    stats_.cpu_jacobian_s += seconds(Clock::now() - start);
+    std::copy(values_.begin(), values_.end(), matrix_.valuePtr());
+    lu_.factorize(matrix_);
+    if (lu_.info() != Eigen::Success)
+      throw Error("generalized-alpha: the iteration matrix is singular at t = " + std::to_string(t_) + " s");
+    cj_ = cj;
+    jacobian_fresh_ = true;
+    jacobian_fresh_now_ = true;
+  }
+
+  [[noreturn]] void fail(double h) const {
+    std::ostringstream msg;
+    msg << "generalized-alpha: Newton did not converge at t = " << t_ << " s with step " << h
+        << " s; try a smaller step, adaptive = true, or check the scene's parameters";
+    throw Error(msg.str());
+  }
+
+  const Model& model_;
+  IntegratorSettings s_;
+  ColoredJacobian jacobian_;
+  double t_;
+  Eigen::VectorXd y_, yp_, y_prev_, yp_prev_;
+  double t_prev_;
+  double h_;
+  Eigen::VectorXd mask_;
+  double alpha_m_ = 0, alpha_f_ = 0, gamma_ = 0, cj_ = 0;
+  Eigen::SparseMatrix<double> matrix_;
+  Eigen::SparseLU<Eigen::SparseMatrix<double>> lu_;
+  std::vector<double> values_;
+  bool jacobian_fresh_ = false;
+  bool jacobian_fresh_now_ = false;
+  int good_steps_ = 0;
+  IntegratorStatistics stats_;
+  double cpu_total_ = 0;
+};
+
+}  // namespace
+
+std::unique_ptr<Integrator> make_generalized_alpha(const Model& model, const IntegratorSettings& s, double t0,
+                                                   const Eigen::VectorXd& y0, const Eigen::VectorXd& yp0) {
+  return std::make_unique<GeneralizedAlpha>(model, s, t0, y0, yp0);
+}
+
+}  // namespace nvh::solve

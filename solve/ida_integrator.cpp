@@ -1,0 +1,231 @@
+// SUNDIALS IDA: variable-order, variable-step BDF on the residual form F(t, y, y') = 0, with the KLU sparse
+// direct solver and the colored finite-difference Jacobian (jacobian.hpp). Algebraic variables (multipliers)
+// are excluded from the error test, as for index-2 systems (Brenan, Campbell and Petzold, Numerical Solution
+// of Initial-Value Problems in DAEs, SIAM 1996, section 6.2).
+#include <ida/ida.h>
+#include <nvector/nvector_serial.h>
+#include <sunlinsol/sunlinsol_klu.h>
+#include <sunmatrix/sunmatrix_sparse.h>
+
+#include <chrono>
+#include <cmath>
+#include <exception>
+#include <sstream>
+#include <utility>
+
+#include "common/error.hpp"
+#include "solve/integrator.hpp"
+#include "solve/jacobian.hpp"
+
+namespace nvh::solve {
+
+std::unique_ptr<Integrator> make_generalized_alpha(const Model& model, const IntegratorSettings& s, double t0,
+                                                   const Eigen::VectorXd& y0, const Eigen::VectorXd& yp0);
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
+
+Eigen::Map<Eigen::VectorXd> view(N_Vector v) {
+  return {N_VGetArrayPointer(v), static_cast<Eigen::Index>(N_VGetLength(v))};
+}
+
+class IdaIntegrator final : public Integrator {
+ public:
+  IdaIntegrator(const Model& model, const IntegratorSettings& s, double t0, const Eigen::VectorXd& y0,
+                const Eigen::VectorXd& yp0)
+      : model_(model), jacobian_(model, s.jacobian == "dense-fd"), t_(t0) {
+    const sunindextype n = model.size();
+    check(SUNContext_Create(nullptr, &ctx_), "SUNContext_Create");
+    y_ = N_VNew_Serial(n, ctx_);
+    yp_ = N_VNew_Serial(n, ctx_);
+    work_ = N_VNew_Serial(n, ctx_);
+    work2_ = N_VNew_Serial(n, ctx_);
+    view(y_) = y0;
+    view(yp_) = yp0;
+    mem_ = IDACreate(ctx_);
+    check(IDAInit(mem_, &IdaIntegrator::residual, t0, y_, yp_), "IDAInit");
+    check(IDASetUserData(mem_, this), "IDASetUserData");
+    // Absolute tolerances: atol for coordinates and velocities; multiplier_atol for the multipliers, which
+    // an index-2 system determines only to round-off / h (a tight atol on them stalls Newton's test).
+    N_Vector id = N_VNew_Serial(n, ctx_);
+    view(id) = model.differential_mask();
+    N_Vector atol = N_VNew_Serial(n, ctx_);
+    view(atol) = (view(id).array() > 0).select(Eigen::VectorXd::Constant(n, s.atol),
+                                               Eigen::VectorXd::Constant(n, s.multiplier_atol));
+    check(IDASVtolerances(mem_, s.rtol, atol), "IDASVtolerances");
+    N_VDestroy(atol);
+    check(IDASetId(mem_, id), "IDASetId");
+    N_VDestroy(id);
+    check(IDASetSuppressAlg(mem_, SUNTRUE), "IDASetSuppressAlg");
+    if (s.max_step > 0) check(IDASetMaxStep(mem_, s.max_step), "IDASetMaxStep");
+    if (s.initial_step > 0) check(IDASetInitStep(mem_, s.initial_step), "IDASetInitStep");
+    check(IDASetMaxOrd(mem_, s.max_order), "IDASetMaxOrd");
+    check(IDASetMaxNumSteps(mem_, 100000000L), "IDASetMaxNumSteps");
+    const auto& p = jacobian_.pattern();
+    matrix_ = SUNSparseMatrix(n, n, std::max(1, p.nonzeros()), CSC_MAT, ctx_);
+    sunindextype* colptr = SUNSparseMatrix_IndexPointers(matrix_);
+    sunindextype* rowval = SUNSparseMatrix_IndexValues(matrix_);
+    for (int c = 0; c <= n; ++c) colptr[c] = p.column_start[c];
+    for (int k = 0; k < p.nonzeros(); ++k) rowval[k] = p.rows[k];
+    solver_ = SUNLinSol_KLU(y_, matrix_, ctx_);
+    check(IDASetLinearSolver(mem_, solver_, matrix_), "IDASetLinearSolver");
+    check(IDASetJacFn(mem_, &IdaIntegrator::jacobian), "IDASetJacFn");
+    check(IDASetErrHandlerFn(mem_, &IdaIntegrator::quiet, this), "IDASetErrHandlerFn");
+  }
+  ~IdaIntegrator() override {
+    IDAFree(&mem_);
+    SUNLinSolFree(solver_);
+    SUNMatDestroy(matrix_);
+    for (N_Vector v : {y_, yp_, work_, work2_}) N_VDestroy(v);
+    SUNContext_Free(&ctx_);
+  }
+
+  double advance(double t_target, double t_stop) override {
+    check(IDASetStopTime(mem_, t_stop), "IDASetStopTime");
+    const auto start = Clock::now();
+    while (t_ < t_target) {
+      double tret = t_;
+      const int flag = IDASolve(mem_, t_stop, &tret, y_, yp_, IDA_ONE_STEP);
+      if (pending_) std::rethrow_exception(std::exchange(pending_, nullptr));
+      if (flag < 0) fail(flag);
+      t_ = tret;
+      stepped_ = true;
+      if (flag == IDA_TSTOP_RETURN) break;
+    }
+    cpu_total_ += seconds(Clock::now() - start);
+    return t_;
+  }
+
+  void interpolate(double t, Eigen::VectorXd& y, Eigen::VectorXd& yp) const override {
+    if (!stepped_) {  // before the first step: the initial state
+      y = view(y_);
+      yp = view(yp_);
+      return;
+    }
+    if (IDAGetDky(mem_, t, 0, work_) < 0 || IDAGetDky(mem_, t, 1, work2_) < 0)
+      throw Error("IDA: cannot interpolate at t = " + std::to_string(t));
+    y = view(work_);
+    yp = view(work2_);
+  }
+  double time() const override { return t_; }
+  void state(Eigen::VectorXd& y, Eigen::VectorXd& yp) const override {
+    y = view(y_);
+    yp = view(yp_);
+  }
+
+  IntegratorStatistics statistics() const override {
+    IntegratorStatistics s;
+    long v = 0;
+    IDAGetNumSteps(mem_, &v), s.steps = v;
+    IDAGetNumErrTestFails(mem_, &v), s.rejected_steps = v;
+    IDAGetNumNonlinSolvIters(mem_, &v), s.newton_iterations = v;
+    IDAGetNumNonlinSolvConvFails(mem_, &v), s.nonlinear_failures = v;
+    IDAGetNumJacEvals(mem_, &v), s.jacobian_evaluations = v;
+    s.linear_solves = s.newton_iterations;
+    IDAGetNumResEvals(mem_, &v), s.residual_evaluations = v + jacobian_.residual_evaluations();
+    int order = 0;
+    IDAGetLastOrder(mem_, &order), s.last_order = order;
+    IDAGetLastStep(mem_, &s.last_step);
+    s.cpu_residual_s = cpu_residual_;
+    s.cpu_jacobian_s = cpu_jacobian_;
+    s.cpu_factorization_s = std::max(0.0, cpu_total_ - cpu_residual_ - cpu_jacobian_);
+    return s;
+  }
+
+ private:
+  static void check(int flag, const char* what) {
+    if (flag < 0) throw Error(std::string("IDA: ") + what + " failed (flag " + std::to_string(flag) + ")");
+  }
+  static void quiet(int, const char*, const char*, char* msg, void* self) {
+    static_cast<IdaIntegrator*>(self)->last_message_ = msg;
+  }
+
+  [[noreturn]] void fail(int flag) {
+    // Which unknown dominates the weighted local error: name its owner (body, joint, ...).
+    double t_now = t_;
+    IDAGetCurrentTime(mem_, &t_now);
+    std::string culprit;
+    if (IDAGetErrWeights(mem_, work_) >= 0 && IDAGetEstLocalErrors(mem_, work2_) >= 0) {
+      const Eigen::VectorXd e = view(work2_).cwiseProduct(view(work_)).cwiseAbs();
+      Eigen::Index k = 0;
+      e.maxCoeff(&k);
+      culprit = model_.describe_state(static_cast<int>(k));
+    }
+    std::ostringstream msg;
+    msg << "the integrator failed at t = " << t_now << " s (IDA flag " << flag << ": " << IDAGetReturnFlagName(flag)
+        << ")";
+    if (!culprit.empty()) msg << "; the largest weighted error is in " << culprit;
+    if (!last_message_.empty()) msg << "; IDA says: " << last_message_;
+    msg << ". Try a smaller max_step or tolerances, or check that element's parameters.";
+    throw Error(msg.str());
+  }
+
+  static int residual(double t, N_Vector y, N_Vector yp, N_Vector r, void* data) {
+    auto* self = static_cast<IdaIntegrator*>(data);
+    const auto start = Clock::now();
+    try {
+      self->model_.residual(t, N_VGetArrayPointer(y), N_VGetArrayPointer(yp), N_VGetArrayPointer(r));
+    } catch (...) {
+      self->pending_ = std::current_exception();
+      return -1;
+    }
+    self->cpu_residual_ += seconds(Clock::now() - start);
+    for (double v : view(r))
+      if (!std::isfinite(v)) return 1;  // recoverable: IDA cuts the step
+    return 0;
+  }
+
+  static int jacobian(double t, double cj, N_Vector y, N_Vector yp, N_Vector r, SUNMatrix j, void* data, N_Vector,
+                      N_Vector, N_Vector) {
+    auto* self = static_cast<IdaIntegrator*>(data);
+    const auto start = Clock::now();
+    try {
+      double h = 0;
+      IDAGetCurrentStep(self->mem_, &h);
+      N_Vector ewt = N_VClone(y);
+      IDAGetErrWeights(self->mem_, ewt);
+      const Eigen::VectorXd weights = view(ewt);
+      N_VDestroy(ewt);
+      self->jacobian_.evaluate(t, view(y), view(yp), view(r), cj, h, weights, self->values_);
+      // IDA zeroes the matrix (SUNMatZero empties the column pointers too) before each call: rewrite the
+      // pattern, then the values.
+      const auto& p = self->jacobian_.pattern();
+      sunindextype* colptr = SUNSparseMatrix_IndexPointers(j);
+      sunindextype* rowval = SUNSparseMatrix_IndexValues(j);
+      for (int c = 0; c <= p.n; ++c) colptr[c] = p.column_start[c];
+      for (int k = 0; k < p.nonzeros(); ++k) rowval[k] = p.rows[k];
+      std::copy(self->values_.begin(), self->values_.end(), SUNSparseMatrix_Data(j));
+    } catch (...) {
+      self->pending_ = std::current_exception();
+      return -1;
+    }
+    self->cpu_jacobian_ += seconds(Clock::now() - start);
+    return 0;
+  }
+
+  const Model& model_;
+  ColoredJacobian jacobian_;
+  SUNContext ctx_ = nullptr;
+  void* mem_ = nullptr;
+  N_Vector y_ = nullptr, yp_ = nullptr, work_ = nullptr, work2_ = nullptr;
+  SUNMatrix matrix_ = nullptr;
+  SUNLinearSolver solver_ = nullptr;
+  std::vector<double> values_;
+  double t_;
+  bool stepped_ = false;
+  double cpu_residual_ = 0, cpu_jacobian_ = 0, cpu_total_ = 0;
+  std::exception_ptr pending_;
+  std::string last_message_;
+};
+
+}  // namespace
+
+std::unique_ptr<Integrator> make_integrator(const Model& model, const IntegratorSettings& s, double t0,
+                                            const Eigen::VectorXd& y0, const Eigen::VectorXd& yp0) {
+  if (s.method == "generalized-alpha") return make_generalized_alpha(model, s, t0, y0, yp0);
+  return std::make_unique<IdaIntegrator>(model, s, t0, y0, yp0);
+}
+
+}  // namespace nvh::solve

@@ -1,0 +1,52 @@
+#pragma once
+// Time integrators behind one interface: both solve the model's residual F(t, y, y') = 0 (model.hpp).
+#include <memory>
+#include <string>
+
+#include <Eigen/Dense>
+
+#include "solve/model.hpp"
+
+namespace nvh::solve {
+
+struct IntegratorSettings {
+  std::string method = "ida";    // "ida" (BDF, SUNDIALS) or "generalized-alpha"
+  double rtol = 1e-6;
+  double atol = 1e-8;
+  double multiplier_atol = 1e-3;  // absolute tolerance of the multipliers (N, N m; index-2 variables)
+  double max_step = 0;           // s, 0 = no limit
+  double initial_step = 0;       // s, 0 = automatic
+  int max_order = 5;             // IDA
+  double rho_inf = 0.8;          // generalized-alpha spectral radius at infinity
+  double step = 1e-4;            // generalized-alpha step (s); adapted if `adaptive`
+  bool adaptive = false;         // generalized-alpha step control
+  std::string jacobian = "colored-fd";  // "colored-fd" (sparse) or "dense-fd"
+};
+
+/// What the results file reports under /solver/statistics.
+struct IntegratorStatistics {
+  long steps = 0, rejected_steps = 0, newton_iterations = 0, jacobian_evaluations = 0, linear_solves = 0,
+       residual_evaluations = 0, nonlinear_failures = 0;
+  int last_order = 0;
+  double last_step = 0;
+  double cpu_residual_s = 0, cpu_jacobian_s = 0, cpu_factorization_s = 0;
+};
+
+class Integrator {
+ public:
+  virtual ~Integrator() = default;
+  /// Take internal steps until the time reaches at least t_target (never beyond t_stop); returns the time.
+  /// Throws nvh::Error naming the time and the dominating residual's owner when a step cannot converge.
+  virtual double advance(double t_target, double t_stop) = 0;
+  /// y and y' at any time inside the last step (dense output).
+  virtual void interpolate(double t, Eigen::VectorXd& y, Eigen::VectorXd& yp) const = 0;
+  /// The current state (checkpoints).
+  virtual double time() const = 0;
+  virtual void state(Eigen::VectorXd& y, Eigen::VectorXd& yp) const = 0;
+  virtual IntegratorStatistics statistics() const = 0;
+};
+
+std::unique_ptr<Integrator> make_integrator(const Model& model, const IntegratorSettings& s, double t0,
+                                            const Eigen::VectorXd& y0, const Eigen::VectorXd& yp0);
+
+}  // namespace nvh::solve

@@ -1,0 +1,109 @@
+// solve: integrate a multibody scene in time (step 2 of 3: condense -> solve -> postproc).
+// A thin CLI over the solve library (solve/run.hpp); `solve bearing-map` is the bearing characteristics tool.
+#include <CLI/CLI.hpp>
+#include <cstring>
+#include <iostream>
+#include <sstream>
+
+#include "common/error.hpp"
+#include "common/interrupt.hpp"
+#include "common/log.hpp"
+#include "common/provenance.hpp"
+#include "common/version.hpp"
+#include "solve/run.hpp"
+#include "solve/scene.hpp"
+#if __has_include("solve/bearing/bearing_map_cli.hpp")
+#include "solve/bearing/bearing_map_cli.hpp"
+#define NVH_HAVE_BEARING_MAP 1
+#endif
+
+namespace {
+
+constexpr const char* kDescription =
+    R"(solve - integrate a multibody scene in time (step 2 of 3: condense -> solve -> postproc)
+
+Reads a scene file (TOML, docs/scene-format.md): bodies (ground, rigid, point masses) with markers,
+ideal joints (fixed, revolute, spherical, prismatic, cylindrical; redundant equations of closed planar
+loops are found and removed), force elements (spring-dampers linear and non-linear, bushings,
+torsional spring-dampers, contacts with clearance, Hunt-Crossley damping and Coulomb friction,
+tables, motor torque-speed curves), speed drivers, loads against time or crank angle (cylinder
+pressure x piston area, periodic over 720 deg), a clock (crank angle; end by time, angle or cycles).
+It integrates the differential-algebraic equations with SUNDIALS IDA (variable-order BDF, KLU sparse
+solver) or generalized-alpha, and writes RESULTS.h5 at a fixed sample rate: time, crank angle,
+marker positions / velocities / accelerations (global axes), body states, element forces, joint
+reactions, solver statistics (docs/results-format.md). The file grows in chunks while the run goes
+on: a run killed at any moment leaves a readable file (status = "running"), and one stopped by
+SIGTERM/SIGINT (Slurm's time limit, Ctrl-C) writes a checkpoint: continue it with --restart.
+
+Examples:
+  solve testdata/scenes/slider_crank.toml -o slider_crank.h5
+  solve scene.toml -o out.h5 --restart          # continue an interrupted run
+  solve bearing-map bearing.toml -o map.h5      # journal bearing characteristics (docs/bearing.md)
+
+Exit codes: 0 success; 1 bad input or a failed run (the message names the file, line and key, or
+the time and the body / joint / element that failed; samples so far are kept); 2 bad command line;
+3 interrupted (output flushed, checkpoint written).)";
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace nvh;
+  using namespace nvh::solve;
+  install_interrupt_handler("solve");
+#ifdef NVH_HAVE_BEARING_MAP
+  if (argc > 1 && std::strcmp(argv[1], "bearing-map") == 0) return nvh::bearing::bearing_map_main(argc - 1, argv + 1);
+#endif
+  CLI::App app{kDescription, "solve"};
+  app.get_formatter()->column_width(34);
+  std::string scene_file, output_file;
+  bool restart = false, quiet = false, verbose = false;
+  std::string progress_style = "auto";
+  app.add_option("SCENE", scene_file, "scene file (.toml); see docs/scene-format.md")->required();
+  app.add_option("-o,--output", output_file, "results file to write (.h5)")->required();
+  app.add_flag("--restart", restart, "continue an interrupted run from the checkpoint in the results file");
+  app.add_option("--progress", progress_style, "progress display: auto (bar on a terminal, lines in logs), bar, lines, none")
+      ->check(CLI::IsMember({"auto", "bar", "lines", "none"}));
+  CLI::Option* quiet_flag = app.add_flag("-q,--quiet", quiet, "print errors only");
+  app.add_flag("-v,--verbose", verbose, "print more detail")->excludes(quiet_flag);
+  app.set_version_flag("--version", std::string("solve ") + kVersion);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? 0 : static_cast<int>(ExitCode::kUsage);
+  }
+  const Logger log(std::cerr, "solve", quiet ? Verbosity::kQuiet : verbose ? Verbosity::kVerbose : Verbosity::kNormal);
+  try {
+    Scene scene = read_scene(scene_file);
+    const Provenance provenance = make_provenance("solve", argc, argv, scene.input_files);
+    RunOptions options;
+    options.output = output_file;
+    options.restart = restart;
+    options.progress = progress_style == "bar"     ? Progress::Style::kBar
+                       : progress_style == "lines" ? Progress::Style::kLines
+                       : progress_style == "none"  ? Progress::Style::kNone
+                                                   : Progress::Style::kAuto;
+    {
+      std::ostringstream what;
+      what << "scene \"" << scene.name << "\": " << scene.model.bodies.size() << " bodies, "
+           << scene.model.constraints.size() << " joints/drivers (" << scene.model.constraint_equations()
+           << " equations), " << scene.model.forces.size() << " force elements; " << scene.model.size()
+           << " unknowns; " << scene.integrator.method;
+      log.info(what.str());
+    }
+    const RunSummary s = run_scene(scene, options, provenance, log);
+    std::ostringstream out;
+    out << (s.status == "complete" ? "wrote " : "interrupted; kept ") << output_file << ": " << s.samples
+        << " samples to t = " << s.end_time << " s; " << s.statistics.steps << " steps ("
+        << s.statistics.rejected_steps << " rejected), " << s.statistics.newton_iterations << " Newton iterations, "
+        << s.statistics.jacobian_evaluations << " Jacobians, " << s.wall_seconds << " s";
+    log.info(out.str());
+    return s.status == "complete" ? 0 : static_cast<int>(ExitCode::kInterrupted);
+  } catch (const Error& e) {
+    log.error(e.what());
+    return static_cast<int>(ExitCode::kFailure);
+  } catch (const std::exception& e) {
+    log.error(std::string("unexpected failure: ") + e.what());
+    return static_cast<int>(ExitCode::kFailure);
+  }
+}

@@ -1,0 +1,122 @@
+#pragma once
+// The multibody model: bodies, constraints (joints, drivers), force elements, a clock; the layout of the state
+// vector y and the residual F(t, y, y') = 0 that both integrators solve.
+//
+// State layout (the "stabilized index-2" form of Gear, Gupta and Leimkuhler, J. Comput. Appl. Math. 12, 1985):
+//   y = [ body 1: q, w, nu | body 2: ... | clock angle | lambda (one per constraint equation) | mu (same) ]
+// Residual rows:
+//   kinematics    q' - H(q) (w - C^T mu) [- p nu]          = 0   (per body)
+//   normalization p.p - 1                                  = 0   (per rigid body)
+//   dynamics      M(q) w' + h(q, w) - Q(t, q, w) + C^T lambda = 0   (per body)
+//   clock         phi' - (omega_i - omega_j) . z_j          = 0
+//   velocity      C(q) w + Phi_t                           = 0   (multiplier lambda)
+//   position      Phi(q, t)                                = 0   (multiplier mu)
+// so that positions and velocities both satisfy the constraints, mu = 0 on the exact solution, and lambda are
+// the reaction multipliers. Redundant equations (a planar linkage of revolute joints in 3D) are found at the
+// start by a rank-revealing QR of C and removed: their rows become lambda_k = 0 and mu_k = 0.
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "common/log.hpp"
+#include "solve/body.hpp"
+#include "solve/constraint.hpp"
+#include "solve/force_element.hpp"
+
+namespace nvh::solve {
+
+struct MarkerRef {
+  int body = -1;
+  int marker = -1;
+};
+
+struct ConstraintEntry {
+  std::string name;
+  std::unique_ptr<Constraint> constraint;
+  MarkerRef i, j;
+  int first_row = 0;          // index of its first equation among all constraint equations
+  std::vector<char> active;   // per equation; redundant ones are 0
+};
+
+struct ForceEntry {
+  std::string name;
+  std::unique_ptr<ForceElement> element;
+  MarkerRef i;
+  std::optional<MarkerRef> j;  // none for loads
+};
+
+struct ClockDefinition {
+  MarkerRef i, j;            // crank angle = rotation of i about z_j
+  double zero_angle = 0;     // rad: the crank angle at t = 0 is angle(i, j) - zero_angle
+};
+
+/// The sparsity pattern of dF/dy (and dF/dy'), compressed by columns.
+struct SparsityPattern {
+  int n = 0;
+  std::vector<int> column_start;  // n + 1
+  std::vector<int> rows;          // row indices, sorted within each column
+  int nonzeros() const { return static_cast<int>(rows.size()); }
+};
+
+class Model {
+ public:
+  Vec3 gravity = Vec3::Zero();
+  std::vector<std::unique_ptr<Body>> bodies;
+  std::vector<ConstraintEntry> constraints;
+  std::vector<ForceEntry> forces;
+  std::optional<ClockDefinition> clock;
+
+  /// Assign the state layout. Call once after all bodies, constraints and forces are added.
+  void finalize();
+
+  int size() const { return size_; }
+  int constraint_equations() const { return n_eq_; }
+  int body_offset(int b) const { return body_offset_[b]; }
+  int clock_index() const { return clock_index_; }
+  int lambda_offset() const { return lambda_offset_; }
+  int mu_offset() const { return mu_offset_; }
+  /// 1 for differential variables, 0 for algebraic ones (nu, lambda, mu) - IDA's id vector.
+  Eigen::VectorXd differential_mask() const;
+  /// Per state, a human-readable owner ("body crank: w[3]", "joint pin: lambda point-x") for messages.
+  std::string describe_state(int k) const;
+
+  /// F(t, y, y'). Thread-compatible (no mutable state).
+  void residual(double t, const double* y, const double* yp, double* f) const;
+
+  /// Consistent initial y, y' at t0: positions projected onto Phi = 0, redundant equations found and
+  /// deactivated (reported to `log`), velocities projected onto C w + Phi_t = 0, accelerations and lambda
+  /// from the augmented system [M C^T; C 0].
+  void consistent_initial_state(double t0, Eigen::VectorXd& y, Eigen::VectorXd& yp, const Logger& log);
+
+  SparsityPattern jacobian_pattern() const;
+
+  // --- kinematics for output ---
+  MarkerMotion marker_motion(const MarkerRef& m, const double* y) const;
+  /// Marker acceleration (global) from y, y': Jv w' + d(Jv)/dt w (the latter by a directional difference).
+  Vec3 marker_acceleration(const MarkerRef& m, const double* y, const double* yp) const;
+  ForceContext context(double t, const double* y) const;
+  /// Reaction force and torque (global) on body i of a constraint, at marker i.
+  void reaction(int c, const double* y, Vec3& force, Vec3& torque) const;
+  double crank_angle(const double* y) const { return clock_index_ >= 0 ? y[clock_index_] : 0.0; }
+  double total_kinetic_energy(const double* y) const;
+
+  std::span<const double> positions(int b, const double* y) const;
+  std::span<const double> velocities(int b, const double* y) const;
+
+ private:
+  void constraint_matrix(double t, const double* y, Eigen::MatrixXd& c, Eigen::VectorXd& phi,
+                         Eigen::VectorXd& phi_t) const;  // all equations, dense (start-up only)
+  int velocity_offset(int b) const { return body_offset_[b] + bodies[b]->position_count(); }
+
+  int size_ = 0;
+  int n_eq_ = 0;
+  int clock_index_ = -1;
+  int lambda_offset_ = 0;
+  int mu_offset_ = 0;
+  std::vector<int> body_offset_;
+  std::vector<int> w_global_offset_;  // offset of each body's w in the stacked velocity vector
+  int n_w_ = 0;
+};
+
+}  // namespace nvh::solve

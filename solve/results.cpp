@@ -1,0 +1,235 @@
+#include "solve/results.hpp"
+
+#include <numbers>
+
+#include "common/error.hpp"
+
+namespace nvh::solve {
+namespace {
+
+// Every signal dataset of a scene: its path, its columns (0 = a 1-D vector) and its unit.
+struct Signal {
+  std::string path;
+  int columns;
+  std::string unit;
+};
+
+std::vector<Signal> signals_of(const Scene& s) {
+  std::vector<Signal> out = {{"time", 0, "s"}, {"kinetic_energy", 0, "J"}};
+  if (s.model.clock) out.push_back({"crank_angle_deg", 0, "deg"});
+  for (const auto& name : s.marker_names) {
+    out.push_back({"markers/" + name + "/position", 3, "m"});
+    out.push_back({"markers/" + name + "/velocity", 3, "m/s"});
+    out.push_back({"markers/" + name + "/acceleration", 3, "m/s^2"});
+  }
+  if (s.output.bodies)
+    for (const auto& b : s.model.bodies) {
+      if (b->velocity_count() == 0) continue;
+      out.push_back({"bodies/" + b->name() + "/position", 3, "m"});
+      out.push_back({"bodies/" + b->name() + "/velocity", 3, "m/s"});
+      if (b->kind() == "rigid") {
+        out.push_back({"bodies/" + b->name() + "/euler_parameters", 4, "1"});
+        out.push_back({"bodies/" + b->name() + "/angular_velocity", 3, "rad/s"});
+      }
+    }
+  if (s.output.forces)
+    for (const auto& f : s.model.forces) {
+      out.push_back({"forces/" + f.name + "/force", 3, "N"});
+      out.push_back({"forces/" + f.name + "/torque", 3, "N m"});
+      for (const auto& c : f.element->channel_names()) {
+        const auto u = c.rfind('_');
+        std::string unit = c.substr(u + 1);
+        if (c.ends_with("_m_s")) unit = "m/s";
+        else if (c.ends_with("_n")) unit = "N";
+        else if (c.ends_with("_nm")) unit = "N m";
+        else if (c.ends_with("_rpm")) unit = "rpm";
+        else if (c.ends_with("_rad")) unit = "rad";
+        else if (c == "magnitude") unit = "N or N m (table value x scale)";
+        out.push_back({"forces/" + f.name + "/" + c, 0, unit});
+      }
+    }
+  if (s.output.joints)
+    for (const auto& c : s.model.constraints) {
+      out.push_back({"joints/" + c.name + "/reaction_force", 3, "N"});
+      out.push_back({"joints/" + c.name + "/reaction_torque", 3, "N m"});
+    }
+  return out;
+}
+
+std::string layout_signature(const Scene& s) {
+  std::string sig = std::to_string(s.model.size());
+  for (const auto& x : signals_of(s)) sig += "|" + x.path + ":" + std::to_string(x.columns);
+  return sig;
+}
+
+}  // namespace
+
+ResultsWriter ResultsWriter::create(const std::filesystem::path& path, const Scene& scene,
+                                    const Provenance& provenance) {
+  {
+    h5::File file = h5::File::create(path);
+    h5::Group root = file.root();
+    root.set_attribute("format", kResultsFormat);
+    root.set_attribute("format_version", kResultsFormatVersion);
+    root.set_attribute("status", "running");
+    root.set_attribute("scene", scene.name);
+    root.set_attribute("sample_rate_hz", scene.output.sample_rate_hz);
+    root.set_attribute("integrator", scene.integrator.method);
+    root.set_attribute("layout", layout_signature(scene));
+    write_provenance(root, provenance);
+    for (const auto& sig : signals_of(scene)) {
+      auto ds = sig.columns == 0 ? root.create_appendable_vector(sig.path) : root.create_appendable(sig.path, sig.columns);
+      root.set_attribute("unit", sig.unit, sig.path);
+    }
+    root.set_attribute("axes", "global", "markers");
+    h5::Group cp = root.create_group("checkpoint");
+    cp.create_appendable_vector("time");
+    cp.create_appendable_vector("samples");
+    cp.create_appendable("y", scene.model.size());
+    cp.create_appendable("yp", scene.model.size());
+    std::vector<std::string> states;
+    for (int k = 0; k < scene.model.size(); ++k) states.push_back(scene.model.describe_state(k));
+    cp.write("state_names", states);
+    file.commit();
+  }
+  ResultsWriter w;
+  w.file_ = std::make_unique<h5::File>(h5::File::open_append(path));
+  w.open_datasets(scene);
+  return w;
+}
+
+ResultsWriter ResultsWriter::reopen(const std::filesystem::path& path, const Scene& scene, Checkpoint& checkpoint) {
+  ResultsWriter w;
+  w.file_ = std::make_unique<h5::File>(h5::File::open_append(path));
+  h5::Group root = w.file_->root();
+  if (!root.has_attribute("format") || root.string_attribute("format") != kResultsFormat)
+    throw Error(path.string() + ": not a results file of solve (no format = \"nvh-results\" attribute)");
+  if (root.string_attribute("layout") != layout_signature(scene))
+    throw Error(path.string() + ": written for another scene (its bodies, markers or elements differ): cannot "
+                "restart from it");
+  h5::Group cp = root.open_group("checkpoint");
+  auto times = cp.open_appendable("time");
+  if (times.rows() == 0) throw Error(path.string() + ": has no checkpoint to restart from");
+  const Eigen::VectorXd t = cp.read_vector("time");
+  const Eigen::VectorXd samples = cp.read_vector("samples");
+  const Eigen::MatrixXd y = cp.read_matrix("y"), yp = cp.read_matrix("yp");
+  const Eigen::Index last = std::min({t.size(), samples.size(), y.rows(), yp.rows()}) - 1;
+  if (last < 0) throw Error(path.string() + ": its checkpoint is incomplete");
+  checkpoint.time = t[last];
+  checkpoint.samples = static_cast<long>(samples[last]);
+  checkpoint.y = y.row(last).transpose();
+  checkpoint.yp = yp.row(last).transpose();
+  w.open_datasets(scene);
+  for (auto& [p, c] : w.channels_) c.dataset.truncate(static_cast<hsize_t>(checkpoint.samples));
+  w.samples_ = checkpoint.samples;
+  root.set_attribute("status", "running");
+  return w;
+}
+
+void ResultsWriter::open_datasets(const Scene& scene) {
+  h5::Group root = file_->root();
+  for (const auto& sig : signals_of(scene)) channels_[sig.path] = Channel{root.open_appendable(sig.path), {}};
+}
+
+void ResultsWriter::add_sample(double t, const Scene& scene, const Eigen::VectorXd& y, const Eigen::VectorXd& yp) {
+  const Model& m = scene.model;
+  auto put = [&](const std::string& path, const auto& v) {
+    auto& b = channel(path).buffer;
+    for (Eigen::Index k = 0; k < v.size(); ++k) b.push_back(v[k]);
+  };
+  auto put1 = [&](const std::string& path, double v) { channel(path).buffer.push_back(v); };
+  put1("time", t);
+  put1("kinetic_energy", m.total_kinetic_energy(y.data()));
+  if (m.clock) put1("crank_angle_deg", m.crank_angle(y.data()) * 180.0 / std::numbers::pi);
+  for (std::size_t k = 0; k < scene.output_markers.size(); ++k) {
+    const auto& ref = scene.output_markers[k];
+    const MarkerMotion mm = m.marker_motion(ref, y.data());
+    const std::string base = "markers/" + scene.marker_names[k] + "/";
+    put(base + "position", mm.position);
+    put(base + "velocity", mm.velocity);
+    put(base + "acceleration", m.marker_acceleration(ref, y.data(), yp.data()));
+  }
+  if (scene.output.bodies)
+    for (std::size_t b = 0; b < m.bodies.size(); ++b) {
+      const auto& body = *m.bodies[b];
+      if (body.velocity_count() == 0) continue;
+      const auto q = m.positions(static_cast<int>(b), y.data());
+      const auto w = m.velocities(static_cast<int>(b), y.data());
+      const std::string base = "bodies/" + body.name() + "/";
+      put(base + "position", body.reference_position(q));
+      put(base + "velocity", Eigen::Map<const Vec3>(w.data()));
+      if (body.kind() == "rigid") {
+        put(base + "euler_parameters", Eigen::Map<const Vec4>(q.data() + 3));
+        put(base + "angular_velocity", Vec3(body.rotation(q) * Eigen::Map<const Vec3>(w.data() + 3)));
+      }
+    }
+  if (scene.output.forces) {
+    const ForceContext ctx = m.context(t, y.data());
+    static const MarkerMotion kFixed{};
+    for (const auto& f : m.forces) {
+      const MarkerMotion mi = m.marker_motion(f.i, y.data());
+      const MarkerMotion mj = f.j ? m.marker_motion(*f.j, y.data()) : kFixed;
+      const ElementForce ef = f.element->evaluate(ctx, mi, mj);
+      const std::string base = "forces/" + f.name + "/";
+      put(base + "force", ef.force);
+      put(base + "torque", ef.torque);
+      const auto names = f.element->channel_names();
+      std::vector<double> values(names.size());
+      f.element->channels(ctx, mi, mj, values);
+      for (std::size_t c = 0; c < names.size(); ++c) put1(base + names[c], values[c]);
+    }
+  }
+  if (scene.output.joints)
+    for (std::size_t c = 0; c < m.constraints.size(); ++c) {
+      Vec3 force, torque;
+      m.reaction(static_cast<int>(c), y.data(), force, torque);
+      put("joints/" + m.constraints[c].name + "/reaction_force", force);
+      put("joints/" + m.constraints[c].name + "/reaction_torque", torque);
+    }
+  ++samples_;
+}
+
+void ResultsWriter::flush(const Checkpoint& cp) {
+  for (auto& [path, c] : channels_) {
+    c.dataset.append(c.buffer);
+    c.buffer.clear();
+    c.dataset.flush();
+  }
+  h5::Group g = file_->root().open_group("checkpoint");
+  // Checkpoint rows: y and y' first, time and the sample count last (a restart reads the shortest).
+  auto y = g.open_appendable("y");
+  y.append({cp.y.data(), static_cast<std::size_t>(cp.y.size())});
+  auto yp = g.open_appendable("yp");
+  yp.append({cp.yp.data(), static_cast<std::size_t>(cp.yp.size())});
+  auto s = g.open_appendable("samples");
+  const double n = static_cast<double>(samples_);
+  s.append({&n, 1});
+  auto t = g.open_appendable("time");
+  t.append({&cp.time, 1});
+  for (auto* d : {&y, &yp, &s, &t}) d->flush();
+  H5Fflush(file_->root().id(), H5F_SCOPE_GLOBAL);
+}
+
+void ResultsWriter::finish(const std::string& status, const std::string& message, const IntegratorStatistics& st,
+                           double wall_seconds) {
+  h5::Group root = file_->root();
+  h5::Group g = root.exists("solver/statistics") ? root.open_group("solver/statistics") : root.create_group("solver/statistics");
+  g.set_attribute("steps", static_cast<std::int64_t>(st.steps));
+  g.set_attribute("rejected_steps", static_cast<std::int64_t>(st.rejected_steps));
+  g.set_attribute("newton_iterations", static_cast<std::int64_t>(st.newton_iterations));
+  g.set_attribute("nonlinear_failures", static_cast<std::int64_t>(st.nonlinear_failures));
+  g.set_attribute("jacobian_evaluations", static_cast<std::int64_t>(st.jacobian_evaluations));
+  g.set_attribute("linear_solves", static_cast<std::int64_t>(st.linear_solves));
+  g.set_attribute("residual_evaluations", static_cast<std::int64_t>(st.residual_evaluations));
+  g.set_attribute("last_order", st.last_order);
+  g.set_attribute("last_step_s", st.last_step);
+  g.set_attribute("cpu_residual_s", st.cpu_residual_s);
+  g.set_attribute("cpu_jacobian_s", st.cpu_jacobian_s);
+  g.set_attribute("cpu_linear_algebra_and_other_s", st.cpu_factorization_s);
+  g.set_attribute("wall_s", wall_seconds);
+  root.set_attribute("status", status);
+  root.set_attribute("message", message);
+  H5Fflush(root.id(), H5F_SCOPE_GLOBAL);
+}
+
+}  // namespace nvh::solve

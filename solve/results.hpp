@@ -1,0 +1,58 @@
+#pragma once
+// The results file of solve (layout in docs/results-format.md): sampled signals written in chunks while the
+// run goes on, so a killed run leaves a readable file up to its last chunk (root attribute status = "running"
+// until the end), and a checkpoint after every chunk from which `solve --restart` continues.
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "common/hdf5.hpp"
+#include "common/provenance.hpp"
+#include "solve/scene.hpp"
+
+namespace nvh::solve {
+
+inline constexpr const char* kResultsFormat = "nvh-results";
+inline constexpr const char* kResultsFormatVersion = "1.0";
+
+struct Checkpoint {
+  double time = 0;
+  long samples = 0;  // samples written before it
+  Eigen::VectorXd y, yp;
+};
+
+class ResultsWriter {
+ public:
+  /// A new file at `path` with the layout for `scene` (written complete and renamed into place, then
+  /// reopened for appending).
+  static ResultsWriter create(const std::filesystem::path& path, const Scene& scene, const Provenance& provenance);
+  /// Reopen a file of an interrupted run; rows after its last checkpoint are dropped. Error if the file was
+  /// written for another scene layout or has no checkpoint.
+  static ResultsWriter reopen(const std::filesystem::path& path, const Scene& scene, Checkpoint& checkpoint);
+
+  /// Buffer one output sample at time t.
+  void add_sample(double t, const Scene& scene, const Eigen::VectorXd& y, const Eigen::VectorXd& yp);
+  long samples() const { return samples_; }
+  /// Write the buffered samples and a checkpoint (t, y, y') to disk.
+  void flush(const Checkpoint& checkpoint);
+  /// Final status ("complete", "interrupted", "failed"), a message, and the integrator statistics.
+  void finish(const std::string& status, const std::string& message, const IntegratorStatistics& stats,
+              double wall_seconds);
+
+ private:
+  ResultsWriter() = default;
+  void open_datasets(const Scene& scene);
+  struct Channel {
+    h5::AppendableDataset dataset;
+    std::vector<double> buffer;
+  };
+  Channel& channel(const std::string& path) { return channels_.at(path); }
+
+  std::unique_ptr<h5::File> file_;
+  std::map<std::string, Channel> channels_;
+  long samples_ = 0;
+};
+
+}  // namespace nvh::solve

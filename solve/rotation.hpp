@@ -1,0 +1,64 @@
+#pragma once
+// Rotations by Euler parameters (unit quaternions p = [e0, e1, e2, e3]).
+//
+// References: A. A. Shabana, Dynamics of Multibody Systems, 4th ed., Cambridge 2020, section 7.4;
+// P. E. Nikravesh, Computer-Aided Analysis of Mechanical Systems, Prentice Hall 1988, chapter 6.
+//   A(p) = (2 e0^2 - 1) I + 2 (e e^T + e0 e~)          rotation matrix, body -> global   (Nikravesh 6.19)
+//   G(p) = [-e, -e~ + e0 I],  L(p) = [-e,  e~ + e0 I]   (3 x 4)                           (Nikravesh 6.37)
+//   omega_global = 2 G p',  omega_body = 2 L p',  p' = 1/2 L^T omega_body  when p^T p = 1
+#include <Eigen/Dense>
+
+namespace nvh::solve {
+
+using Vec3 = Eigen::Vector3d;
+using Mat3 = Eigen::Matrix3d;
+using Vec4 = Eigen::Vector4d;
+using Mat34 = Eigen::Matrix<double, 3, 4>;
+
+/// The cross-product matrix: skew(a) b = a x b.
+inline Mat3 skew(const Vec3& a) {
+  Mat3 s;
+  s << 0, -a.z(), a.y(), a.z(), 0, -a.x(), -a.y(), a.x(), 0;
+  return s;
+}
+
+/// Rotation matrix (body -> global) of Euler parameters p (need not be exactly unit: used as given).
+inline Mat3 rotation_matrix(const Vec4& p) {
+  const double e0 = p[0];
+  const Vec3 e = p.tail<3>();
+  return (2 * e0 * e0 - 1) * Mat3::Identity() + 2 * (e * e.transpose() + e0 * skew(e));
+}
+
+/// L(p): omega_body = 2 L p'.
+inline Mat34 l_matrix(const Vec4& p) {
+  Mat34 l;
+  l.col(0) = -p.tail<3>();
+  l.rightCols<3>() = skew(p.tail<3>()) + p[0] * Mat3::Identity();
+  return l;
+}
+
+/// Euler parameters of a rotation matrix (Shepperd's method via Eigen), e0 >= 0.
+inline Vec4 euler_parameters(const Mat3& a) {
+  Eigen::Quaterniond q(a);
+  q.normalize();
+  Vec4 p(q.w(), q.x(), q.y(), q.z());
+  if (p[0] < 0) p = -p;
+  return p;
+}
+
+/// An orthonormal frame (columns x, y, z) with the given z axis and x as close as possible to `x_hint`.
+inline Mat3 frame_from_z(const Vec3& z_axis, const Vec3& x_hint) {
+  const Vec3 z = z_axis.normalized();
+  Vec3 x = x_hint - x_hint.dot(z) * z;
+  if (x.norm() < 1e-9) {  // hint parallel to z: take any perpendicular
+    x = std::abs(z.x()) < 0.9 ? Vec3::UnitX() - z.x() * z : Vec3::UnitY() - z.y() * z;
+  }
+  x.normalize();
+  Mat3 f;
+  f.col(0) = x;
+  f.col(1) = z.cross(x);
+  f.col(2) = z;
+  return f;
+}
+
+}  // namespace nvh::solve

@@ -1,0 +1,32 @@
+#pragma once
+// Running a scene: consistent start, the time loop with sampled output, checkpoints, progress, and clean
+// ends on failure or on SIGTERM/SIGINT.
+#include <filesystem>
+#include <string>
+
+#include "common/log.hpp"
+#include "common/progress.hpp"
+#include "common/provenance.hpp"
+#include "solve/scene.hpp"
+
+namespace nvh::solve {
+
+struct RunOptions {
+  std::filesystem::path output;
+  bool restart = false;
+  Progress::Style progress = Progress::Style::kAuto;
+};
+
+struct RunSummary {
+  std::string status;  // "complete", "interrupted"
+  double end_time = 0;
+  long samples = 0;
+  IntegratorStatistics statistics;
+  double wall_seconds = 0;
+};
+
+/// Integrate `scene` and write the results file. Throws nvh::Error on a failed run after marking the file
+/// "failed" with the message (the samples so far are kept).
+RunSummary run_scene(Scene& scene, const RunOptions& options, const Provenance& provenance, const Logger& log);
+
+}  // namespace nvh::solve

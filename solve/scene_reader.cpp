@@ -1,0 +1,426 @@
+// The scene file reader: TOML -> Model + run settings (keys documented in docs/scene-format.md).
+#include <cmath>
+#include <map>
+#include <numbers>
+#include <optional>
+
+#include "common/input.hpp"
+#include "solve/force_elements.hpp"
+#include "solve/scene.hpp"
+
+namespace nvh::solve {
+namespace {
+
+using input::Range;
+using input::Table;
+constexpr double kPi = std::numbers::pi;
+
+Vec3 to_vec(const std::array<double, 3>& a) { return {a[0], a[1], a[2]}; }
+
+class SceneReader {
+ public:
+  SceneReader(std::filesystem::path base, Scene& scene) : base_(std::move(base)), s_(scene) {}
+
+  void read(const Table& root) {
+    const auto scene = root.optional_table("scene");
+    if (scene) {
+      s_.name = scene->optional_string("name").value_or("");
+      if (auto g = scene->optional_vec3("gravity")) s_.model.gravity = to_vec(*g);
+      scene->finish();
+    }
+    for (const auto& b : root.table_array("body")) read_body(b);
+    if (s_.model.bodies.empty()) root.fail("a scene needs at least one [[body]]");
+    for (const auto& j : root.table_array("joint")) read_joint(j);
+    for (const auto& d : root.table_array("driver")) read_driver(d);
+    for (const auto& f : root.table_array("force")) read_force(f);
+    for (const auto& l : root.table_array("load")) read_load(l);
+    read_clock(root);
+    read_integrator(root);
+    read_output(root);
+    root.finish();
+    s_.model.finalize();
+  }
+
+ private:
+  // ------------------------------------------------------------------ bodies and markers
+  void read_body(const Table& t) {
+    const std::string name = t.string("name");
+    if (name.empty() || name.find('.') != std::string::npos)
+      t.fail("name", "a body name must be non-empty and contain no '.' (markers are named body.marker)");
+    if (body_index_.count(name)) t.fail("name", "a body named '" + name + "' is defined twice");
+    const std::string type = t.choice("type", {"ground", "rigid", "point-mass", "flexible"});
+    InitialState init;
+    if (type != "ground") {
+      init.position = to_vec(t.optional_vec3("position").value_or(std::array<double, 3>{0, 0, 0}));
+      init.velocity = to_vec(t.optional_vec3("velocity").value_or(std::array<double, 3>{0, 0, 0}));
+    }
+    std::unique_ptr<Body> body;
+    if (type == "ground") {
+      body = std::make_unique<Ground>(name);
+    } else if (type == "rigid") {
+      const double mass = t.number("mass", Range::positive());
+      const auto in = t.numbers("inertia", Range{});
+      Mat3 j = Mat3::Zero();
+      if (in.size() == 3) {
+        j.diagonal() << in[0], in[1], in[2];
+      } else if (in.size() == 6) {  // Ixx Iyy Izz Ixy Ixz Iyz (tensor components, not products of inertia)
+        j << in[0], in[3], in[4], in[3], in[1], in[5], in[4], in[5], in[2];
+      } else {
+        t.fail("inertia", "expected 3 numbers [Ixx, Iyy, Izz] or 6 [Ixx, Iyy, Izz, Ixy, Ixz, Iyz] in kg m^2, got " +
+                              std::to_string(in.size()));
+      }
+      Eigen::SelfAdjointEigenSolver<Mat3> eig(j);
+      const Vec3 ev = eig.eigenvalues();
+      if (ev.minCoeff() <= 0)
+        t.fail("inertia", "the inertia tensor must be positive definite; its principal moments are " +
+                              std::to_string(ev[0]) + ", " + std::to_string(ev[1]) + ", " + std::to_string(ev[2]));
+      if (ev[0] + ev[1] < ev[2] * (1 - 1e-9))
+        t.fail("inertia", "the principal moments violate the triangle inequality (I1 + I2 >= I3): no real body "
+                          "has them");
+      if (t.has("orientation")) {
+        const auto p = t.numbers("orientation");
+        if (p.size() != 4) t.fail("orientation", "expected 4 Euler parameters [e0, e1, e2, e3]");
+        Vec4 pv(p[0], p[1], p[2], p[3]);
+        if (pv.norm() < 1e-12) t.fail("orientation", "the Euler parameters must not all be zero");
+        init.orientation = rotation_matrix(pv.normalized());
+      }
+      init.angular_velocity = to_vec(t.optional_vec3("angular_velocity").value_or(std::array<double, 3>{0, 0, 0}));
+      body = std::make_unique<RigidBody>(name, mass, j, init);
+    } else if (type == "point-mass") {
+      body = std::make_unique<PointMass>(name, t.number("mass", Range::positive()), init);
+    } else {
+      t.fail("type", "flexible bodies are not available in this version of solve (use rigid bodies, point "
+                     "masses and spring-dampers; see docs/scene-format.md)");
+    }
+    for (const auto& m : t.table_array("marker")) {
+      MarkerDefinition md;
+      md.name = m.string("name");
+      if (body->find_marker(md.name) >= 0) m.fail("name", "marker '" + md.name + "' is defined twice on body '" + name + "'");
+      md.position = to_vec(m.optional_vec3("at").value_or(std::array<double, 3>{0, 0, 0}));
+      const Vec3 z = to_vec(m.optional_vec3("z").value_or(std::array<double, 3>{0, 0, 1}));
+      const Vec3 x = to_vec(m.optional_vec3("x").value_or(std::array<double, 3>{1, 0, 0}));
+      if (z.norm() < 1e-12) m.fail("z", "the z axis must not be zero");
+      if (type == "point-mass" && md.position.norm() > 0)
+        m.fail("at", "markers of a point mass sit on the point: 'at' must be [0, 0, 0] or omitted");
+      md.axes = frame_from_z(z, x);
+      m.finish();
+      body->add_marker(std::move(md));
+    }
+    t.finish();
+    body_index_[name] = static_cast<int>(s_.model.bodies.size());
+    s_.model.bodies.push_back(std::move(body));
+  }
+
+  MarkerRef marker(const Table& t, std::string_view key) const {
+    const std::string full = t.string(key);
+    const auto dot = full.find('.');
+    if (dot == std::string::npos)
+      t.fail(key, "expected a marker as \"body.marker\", got \"" + full + "\"");
+    const std::string bname = full.substr(0, dot), mname = full.substr(dot + 1);
+    const auto it = body_index_.find(bname);
+    if (it == body_index_.end()) {
+      std::vector<std::string> names;
+      for (const auto& [n, i] : body_index_) names.push_back(n);
+      const std::string near = input::closest(bname, names);
+      t.fail(key, "no body '" + bname + "'" + (near.empty() ? "" : " (did you mean '" + near + "'?)"));
+    }
+    const Body& b = *s_.model.bodies[it->second];
+    const int m = b.find_marker(mname);
+    if (m < 0) {
+      std::vector<std::string> names;
+      for (const auto& md : b.markers()) names.push_back(md.name);
+      const std::string near = input::closest(mname, names);
+      std::string have;
+      for (const auto& n : names) have += (have.empty() ? "" : ", ") + n;
+      t.fail(key, "body '" + bname + "' has no marker '" + mname + "'" +
+                      (near.empty() ? "" : " (did you mean '" + near + "'?)") +
+                      (have.empty() ? "; it has no markers" : "; its markers: " + have));
+    }
+    return {it->second, m};
+  }
+
+  /// A marker's motion in the initial state as given (before assembly).
+  MarkerMotion initial_motion(const MarkerRef& m) const {
+    const Body& b = *s_.model.bodies[m.body];
+    const Eigen::VectorXd q = b.initial_positions(), w = b.initial_velocities();
+    return b.marker_motion(m.marker, {q.data(), std::size_t(q.size())}, {w.data(), std::size_t(w.size())});
+  }
+
+  // ------------------------------------------------------------------ joints and drivers
+  void add_constraint(const Table& t, std::string name, std::unique_ptr<Constraint> c, MarkerRef i, MarkerRef j) {
+    if (i.body == j.body) t.fail("j", "markers i and j are on the same body: a joint connects two bodies");
+    s_.model.constraints.push_back({std::move(name), std::move(c), i, j, 0, {}});
+  }
+
+  void read_joint(const Table& t) {
+    const std::string name = t.string("name");
+    static const std::map<std::string, JointType> types = {{"fixed", JointType::kFixed},
+                                                           {"revolute", JointType::kRevolute},
+                                                           {"spherical", JointType::kSpherical},
+                                                           {"prismatic", JointType::kPrismatic},
+                                                           {"cylindrical", JointType::kCylindrical}};
+    const std::string type = t.choice("type", {"fixed", "revolute", "spherical", "prismatic", "cylindrical"});
+    const MarkerRef i = marker(t, "i"), j = marker(t, "j");
+    t.finish();
+    add_constraint(t, name, make_joint(types.at(type)), i, j);
+  }
+
+  /// A table y(x) from 'table' = [[x, y], ...] or 'file' = "t.csv" with 'columns' = ["x", "y"].
+  Table1D table_from(const Table& t, const std::string& what, double period = 0.0) {
+    if (t.has("table") && t.has("file")) t.fail("file", "give either 'table' or 'file', not both");
+    try {
+      if (t.has("file")) {
+        const auto file = base_ / t.string("file");
+        const std::vector<std::string> cols =
+            t.has("columns") ? t.strings("columns") : std::vector<std::string>{"", ""};
+        if (cols.size() != 2) t.fail("columns", "expected two column names [abscissa, value]");
+        s_.input_files.push_back(file);
+        return read_csv_table(file, cols[0], cols[1], period);
+      }
+      if (!t.has("table"))
+        t.fail("the " + what + " needs 'table' = [[x, y], ...] or 'file' = \"table.csv\"");
+      std::vector<double> x, y;
+      for (const auto& row : t.number_rows("table", 2)) {
+        x.push_back(row[0]);
+        y.push_back(row[1]);
+      }
+      return Table1D(std::move(x), std::move(y), "the table", period);
+    } catch (const Error& e) {
+      if (!e.where().file.empty()) throw;
+      t.fail(t.has("file") ? "file" : "table", e.what());
+    }
+  }
+
+  void read_driver(const Table& t);
+  void read_force(const Table& t);
+  void read_load(const Table& t);
+  void read_clock(const Table& root);
+  void read_integrator(const Table& root);
+  void read_output(const Table& root);
+
+  std::filesystem::path base_;
+  Scene& s_;
+  std::map<std::string, int> body_index_;
+  bool needs_clock_ = false;
+  std::optional<Table> clock_user_;  // a load that needs the crank angle (for the message)
+
+};
+
+void SceneReader::read_driver(const Table& t) {
+  const std::string name = t.string("name");
+  const std::string type = t.choice("type", {"speed", "motor"});
+  const MarkerRef i = marker(t, "i"), j = marker(t, "j");
+  if (type == "motor") {  // torque-speed curve: a force element
+    Table1D curve = table_from(t, "motor torque-speed curve (rpm, N m)");
+    t.finish();
+    s_.model.forces.push_back({name, std::make_unique<MotorTorque>(std::move(curve)), i, j});
+    return;
+  }
+  // Prescribed speed: the angle theta(t) = theta0 + integral of omega(t); theta0 is the initial angle.
+  const double theta0 = relative_angle(initial_motion(i), initial_motion(j));
+  std::function<double(double)> theta, rate;
+  constexpr double kRpm = 2 * kPi / 60.0;
+  if (t.has("rpm") && t.has("table")) t.fail("table", "give either 'rpm' (constant) or 'table' (rpm against time)");
+  if (t.has("rpm")) {
+    const double w = t.number("rpm") * kRpm;
+    theta = [=](double time) { return theta0 + w * time; };
+    rate = [=](double) { return w; };
+  } else {
+    auto table = std::make_shared<Table1D>(table_from(t, "speed driver's rpm(t)"));
+    theta = [=](double time) { return theta0 + kRpm * table->integral(time) - kRpm * table->integral(0.0); };
+    rate = [=](double time) { return kRpm * (*table)(time); };
+  }
+  t.finish();
+  add_constraint(t, name, std::make_unique<AngleDriver>(theta, rate), i, j);
+}
+
+void SceneReader::read_force(const Table& t) {
+  const std::string name = t.string("name");
+  const std::string type = t.choice("type", {"spring-damper", "bushing", "torsional-spring-damper", "contact",
+                                             "table-force", "motor"});
+  const MarkerRef i = marker(t, "i"), j = marker(t, "j");
+  std::unique_ptr<ForceElement> e;
+  if (type == "spring-damper") {
+    SpringDamper::Parameters p;
+    p.k0 = t.number_or("k", 0.0, Range::non_negative());
+    p.d0 = t.number_or("d", 0.0, Range::non_negative());
+    p.kb = t.number_or("kB", 0.0);
+    p.db = t.number_or("dB", 0.0);
+    p.xb = t.number_or("xB", 1.0, Range::positive());
+    p.preload = t.number_or("preload", 0.0);
+    if (t.has("free_length")) {
+      p.free_length = t.number("free_length", Range::non_negative());
+    } else {  // the initial distance: no force at the start
+      p.free_length = (initial_motion(i).position - initial_motion(j).position).norm();
+    }
+    e = std::make_unique<SpringDamper>(p);
+  } else if (type == "bushing") {
+    auto matrix6 = [&](const char* key) {
+      Bushing::Matrix6 m = Bushing::Matrix6::Zero();
+      if (!t.has(key)) return m;
+      const auto v = t.numbers(key);
+      if (v.size() == 6) {
+        for (int k = 0; k < 6; ++k) m(k, k) = v[k];
+      } else if (v.size() == 36) {
+        for (int k = 0; k < 36; ++k) m(k / 6, k % 6) = v[k];
+      } else {
+        t.fail(key, "expected 6 diagonal values [x, y, z, rx, ry, rz] or 36 values of a 6 x 6 matrix, row by row");
+      }
+      return m;
+    };
+    e = std::make_unique<Bushing>(matrix6("stiffness"), matrix6("damping"));
+  } else if (type == "torsional-spring-damper") {
+    e = std::make_unique<TorsionalSpringDamper>(t.number("k", Range::non_negative()),
+                                                t.number_or("d", 0.0, Range::non_negative()),
+                                                t.number_or("angle0_deg", 0.0) * kPi / 180.0);
+  } else if (type == "contact") {
+    Contact::Parameters p;
+    p.stiffness = t.number("stiffness", Range::positive());
+    p.exponent = t.number_or("exponent", 1.5, Range::closed(1.0, 3.0));
+    p.restitution = t.number_or("restitution", 1.0, Range::open(0.0, 1.0 + 1e-12));
+    p.reference_speed = t.number_or("reference_speed", 1.0, Range::positive());
+    p.clearance = t.number_or("clearance", 0.0);
+    p.mu_static = t.number_or("mu_static", 0.0, Range::non_negative());
+    p.mu_dynamic = t.number_or("mu_dynamic", p.mu_static, Range::non_negative());
+    p.stribeck_speed = t.number_or("stribeck_speed", 0.01, Range::positive());
+    p.regularization_speed = t.number_or("regularization_speed", 1e-4, Range::positive());
+    e = std::make_unique<Contact>(p);
+  } else if (type == "table-force") {
+    e = std::make_unique<TableForce>(table_from(t, "force-deflection table (m, N)"));
+  } else {
+    e = std::make_unique<MotorTorque>(table_from(t, "motor torque-speed curve (rpm, N m)"));
+  }
+  t.finish();
+  if (i.body == j.body) t.fail("j", "markers i and j are on the same body: a force element connects two bodies");
+  s_.model.forces.push_back({name, std::move(e), i, j});
+}
+
+void SceneReader::read_load(const Table& t) {
+  const std::string name = t.string("name");
+  const std::string type = t.choice("type", {"force", "torque"});
+  const MarkerRef at = marker(t, "at");
+  TableLoad::Parameters p;
+  p.torque = type == "torque";
+  p.direction = to_vec(t.vec3("direction"));
+  if (p.direction.norm() < 1e-12) t.fail("direction", "the direction must not be zero");
+  p.direction.normalize();
+  p.marker_axes = t.optional_choice("axes", {"global", "marker"}).value_or("global") == "marker";
+  const std::string abscissa = t.optional_choice("abscissa", {"time", "crank-angle"}).value_or("time");
+  p.abscissa = abscissa == "time" ? TableLoad::Abscissa::kTime : TableLoad::Abscissa::kCrankAngle;
+  p.scale = t.number_or("scale", 1.0);
+  p.offset_deg = t.number_or("offset_deg", 0.0);
+  double period = 0.0;
+  if (p.abscissa == TableLoad::Abscissa::kCrankAngle) {
+    period = t.number_or("period_deg", 720.0, Range::positive());
+    needs_clock_ = true;
+    clock_user_ = t;
+  }
+  Table1D table = table_from(t, "load table (" + std::string(abscissa == "time" ? "s" : "deg") + ", value)", period);
+  t.finish();
+  s_.model.forces.push_back({name, std::make_unique<TableLoad>(std::move(table), p), at, std::nullopt});
+}
+
+void SceneReader::read_clock(const Table& root) {
+  const auto c = root.optional_table("clock");
+  if (!c) {
+    if (needs_clock_) clock_user_->fail("abscissa", "a load against crank angle needs a [clock] that defines the crank angle");
+    root.fail("the scene needs a [clock] with end_time (s), or i/j markers and end_angle_deg or end_cycles");
+  }
+  s_.start_time = c->number_or("start_time", 0.0);
+  if (c->has("i") || c->has("j")) {
+    ClockDefinition def;
+    def.i = marker(*c, "i");
+    def.j = marker(*c, "j");
+    def.zero_angle = c->number_or("zero_deg", 0.0) * kPi / 180.0;
+    s_.model.clock = def;
+  } else if (needs_clock_) {
+    clock_user_->fail("abscissa", "a load against crank angle needs [clock] i and j markers (the crank's rotation)");
+  }
+  const int ends = c->has("end_time") + c->has("end_angle_deg") + c->has("end_cycles");
+  if (ends != 1) c->fail("give exactly one of end_time (s), end_angle_deg or end_cycles");
+  if (c->has("end_time")) {
+    s_.end_time = c->number("end_time", Range{s_.start_time, 1e12, true, false});
+  } else {
+    if (!s_.model.clock) c->fail(c->has("end_angle_deg") ? "end_angle_deg" : "end_cycles", "an end by angle needs the clock's i and j markers");
+    const double cycle = c->number_or("cycle_deg", 720.0, Range::positive());
+    s_.end_angle_deg = c->has("end_angle_deg") ? c->number("end_angle_deg", Range::positive())
+                                             : c->number("end_cycles", Range::positive()) * cycle;
+    if (!c->has("end_time_limit")) {
+      // The end time follows from the speed at run time; a generous bound stops a stalled run.
+      s_.end_time = c->number_or("end_time_limit", 1e9, Range::positive());
+    }
+  }
+  c->accept("end_time_limit");
+  c->finish();
+}
+
+void SceneReader::read_integrator(const Table& root) {
+  const auto t = root.optional_table("integrator");
+  if (!t) return;
+  auto& s = s_.integrator;
+  s.method = t->optional_choice("method", {"ida", "generalized-alpha"}).value_or(s.method);
+  s.rtol = t->number_or("rtol", s.rtol, Range::open(0.0, 1.0));
+  s.atol = t->number_or("atol", s.atol, Range::positive());
+  s.multiplier_atol = t->number_or("multiplier_atol", s.multiplier_atol, Range::positive());
+  s.max_step = t->number_or("max_step", s.max_step, Range::non_negative());
+  s.initial_step = t->number_or("initial_step", s.initial_step, Range::non_negative());
+  s.max_order = static_cast<int>(t->optional_integer("max_order", Range::closed(1, 5)).value_or(s.max_order));
+  s.rho_inf = t->number_or("rho_inf", s.rho_inf, Range::closed(0.0, 1.0));
+  s.step = t->number_or("step", s.step, Range::positive());
+  s.adaptive = t->optional_boolean("adaptive").value_or(s.adaptive);
+  s.jacobian = t->optional_choice("jacobian", {"colored-fd", "dense-fd"}).value_or(s.jacobian);
+  t->finish();
+}
+
+void SceneReader::read_output(const Table& root) {
+  auto& o = s_.output;
+  if (const auto t = root.optional_table("output")) {
+    o.sample_rate_hz = t->number_or("sample_rate_hz", o.sample_rate_hz, Range::positive());
+    o.chunk_samples = static_cast<int>(t->optional_integer("chunk_samples", Range::closed(1, 1e7)).value_or(o.chunk_samples));
+    o.bodies = t->optional_boolean("bodies").value_or(true);
+    o.forces = t->optional_boolean("forces").value_or(true);
+    o.joints = t->optional_boolean("joints").value_or(true);
+    if (t->has("markers")) {
+      o.markers = t->strings("markers");
+      for (const auto& name : o.markers) {
+        // reuse the marker lookup's messages through a one-key check
+        const auto dot = name.find('.');
+        const auto it = dot == std::string::npos ? body_index_.end() : body_index_.find(name.substr(0, dot));
+        if (it == body_index_.end() || s_.model.bodies[it->second]->find_marker(name.substr(dot + 1)) < 0)
+          t->fail("markers", "no marker '" + name + "' (markers are named \"body.marker\")");
+        s_.output_markers.push_back({it->second, s_.model.bodies[it->second]->find_marker(name.substr(dot + 1))});
+        s_.marker_names.push_back(name);
+      }
+    }
+    t->finish();
+  }
+  if (o.markers.empty()) {
+    for (std::size_t b = 0; b < s_.model.bodies.size(); ++b) {
+      const auto& body = *s_.model.bodies[b];
+      if (body.velocity_count() == 0) continue;
+      for (std::size_t m = 0; m < body.markers().size(); ++m) {
+        s_.output_markers.push_back({static_cast<int>(b), static_cast<int>(m)});
+        s_.marker_names.push_back(body.name() + "." + body.markers()[m].name);
+      }
+    }
+  }
+}
+
+}  // namespace
+
+Scene parse_scene(const std::string& text, const std::string& name, const std::filesystem::path& base) {
+  Scene scene;
+  const auto doc = input::Document::parse(text, name);
+  SceneReader(base, scene).read(doc.root());
+  return scene;
+}
+
+Scene read_scene(const std::filesystem::path& path) {
+  Scene scene;
+  const auto doc = input::Document::load(path);
+  scene.input_files.push_back(path);
+  SceneReader(path.parent_path(), scene).read(doc.root());
+  return scene;
+}
+
+}  // namespace nvh::solve
