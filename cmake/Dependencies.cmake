@@ -22,6 +22,16 @@ add_library(nvh_cholmod INTERFACE)
 target_include_directories(nvh_cholmod SYSTEM INTERFACE ${CHOLMOD_INCLUDE_DIR})
 target_link_libraries(nvh_cholmod INTERFACE ${CHOLMOD_LIBRARY} ${SUITESPARSECONFIG_LIBRARY})
 
+# KLU (SuiteSparse; sparse LU for circuit-like and Reynolds matrices), used directly by solve/bearing.
+find_library(KLU_LIBRARY klu REQUIRED)
+find_library(AMD_LIBRARY amd REQUIRED)
+find_library(COLAMD_LIBRARY colamd REQUIRED)
+find_library(BTF_LIBRARY btf REQUIRED)
+add_library(nvh_klu INTERFACE)
+target_include_directories(nvh_klu SYSTEM INTERFACE ${CHOLMOD_INCLUDE_DIR})
+target_link_libraries(nvh_klu INTERFACE ${KLU_LIBRARY} ${AMD_LIBRARY} ${COLAMD_LIBRARY} ${BTF_LIBRARY}
+                                        ${SUITESPARSECONFIG_LIBRARY})
+
 # gmsh (in-process meshing, condense/gmsh_mesh.cpp): Debian's libgmsh-dev has the header gmsh.h and
 # libgmsh.so only (no CMake config, no pkg-config file).
 find_path(GMSH_INCLUDE_DIR gmsh.h REQUIRED)

@@ -5,7 +5,9 @@
 #include <optional>
 
 #include "common/input.hpp"
+#include "solve/flexible_body.hpp"
 #include "solve/force_elements.hpp"
+#include "solve/journal_bearing_element.hpp"
 #include "solve/scene.hpp"
 
 namespace nvh::solve {
@@ -89,8 +91,15 @@ class SceneReader {
     } else if (type == "point-mass") {
       body = std::make_unique<PointMass>(name, t.number("mass", Range::positive()), init);
     } else {
-      t.fail("type", "flexible bodies are not available in this version of solve (use rigid bodies, point "
-                     "masses and spring-dampers; see docs/scene-format.md)");
+      init.angular_velocity = to_vec(t.optional_vec3("angular_velocity").value_or(std::array<double, 3>{0, 0, 0}));
+      if (t.has("orientation")) {
+        const auto p = t.numbers("orientation");
+        if (p.size() != 4) t.fail("orientation", "expected 4 Euler parameters [e0, e1, e2, e3]");
+        const Vec4 pv(p[0], p[1], p[2], p[3]);
+        if (pv.norm() < 1e-12) t.fail("orientation", "the Euler parameters must not all be zero");
+        init.orientation = rotation_matrix(pv.normalized());
+      }
+      body = make_flexible_body(t, name, init, base_, s_.input_files);
     }
     for (const auto& m : t.table_array("marker")) {
       MarkerDefinition md;
@@ -237,7 +246,7 @@ void SceneReader::read_driver(const Table& t) {
 void SceneReader::read_force(const Table& t) {
   const std::string name = t.string("name");
   const std::string type = t.choice("type", {"spring-damper", "bushing", "torsional-spring-damper", "contact",
-                                             "table-force", "motor"});
+                                             "table-force", "motor", "journal-bearing"});
   const MarkerRef i = marker(t, "i"), j = marker(t, "j");
   std::unique_ptr<ForceElement> e;
   if (type == "spring-damper") {
@@ -285,6 +294,8 @@ void SceneReader::read_force(const Table& t) {
     p.stribeck_speed = t.number_or("stribeck_speed", 0.01, Range::positive());
     p.regularization_speed = t.number_or("regularization_speed", 1e-4, Range::positive());
     e = std::make_unique<Contact>(p);
+  } else if (type == "journal-bearing") {
+    e = make_journal_bearing(t);
   } else if (type == "table-force") {
     e = std::make_unique<TableForce>(table_from(t, "force-deflection table (m, N)"));
   } else {
