@@ -57,10 +57,22 @@ struct RigidLink {
   std::string path;  ///< e.g. "beam.rigid[1]"
 };
 
+/// The mesh nodes on a cylinder band (a bearing bore, a liner): nodes whose distance r from the axis
+/// (through `point`, along `axis`) lies in [r_min, r_max] and whose axial coordinate
+/// s = (x - point) . axis / |axis| lies in [s_min, s_max]. All in m.
+struct CylinderSelector {
+  Vec3 point{};
+  Vec3 axis{};  ///< direction, not necessarily of unit length
+  double r_min = 0.0, r_max = 0.0;
+  double s_min = -1e300, s_max = 1e300;  ///< unbounded unless `length` is given
+};
+
 /// Supported degrees of freedom at a point, or at every node inside a box: mask over x y z rx ry rz.
 struct Support {
   Vec3 at{};
   std::optional<std::array<double, 6>> box;  ///< xmin ymin zmin xmax ymax zmax (m); replaces `at`
+  std::string surface;                       ///< volume models: a node set (upper case); or ...
+  std::optional<CylinderSelector> cylinder;  ///< ... the nodes on a cylinder band
   std::array<bool, 6> dofs{};
   SourceLocation where;
   std::string path;  ///< e.g. "fix[1]"
@@ -74,8 +86,10 @@ struct NamedPoint {
   std::string path;  ///< e.g. "interface[3]"
   // Volume interfaces only: the coupling of the point to a surface of the mesh.
   std::string surface;                       ///< node set (*NSET) of the mesh, upper case; or ...
-  std::optional<std::array<double, 6>> box;  ///< ... the nodes inside a box, m
+  std::optional<std::array<double, 6>> box;  ///< ... the nodes inside a box, m; or ...
+  std::optional<CylinderSelector> cylinder;  ///< ... the nodes on a cylinder band (a bore)
   bool distributing = false;                 ///< RBE3 (weighted average, no stiffness) instead of RBE2
+  double max_distance = 0.0;  ///< m; 0: the point may lie at most the surface's size from its surface
 };
 
 enum class ReductionMethod { kModal, kCraigBampton, kGuyan };
@@ -124,7 +138,7 @@ struct Component {
   std::vector<NamedPoint> interfaces;
   std::vector<NamedPoint> observers;
   ReductionSettings reduction;
-  bool export_surface = false;  ///< [surface] export: write the outer surface and its mode shapes
+  bool export_surface = false;    ///< [surface] export: write the outer surface and its mode shapes
   double point_tolerance = 1e-6;  ///< m: how far a named point may lie from a node of the model
 };
 

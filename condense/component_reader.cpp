@@ -136,7 +136,36 @@ std::array<double, 6> read_box(const Table& t, const std::string& key) {
   return {box[0], box[1], box[2], box[3], box[4], box[5]};
 }
 
-/// A volume interface: a point coupled rigidly (RBE2) to a node set or the nodes in a box.
+/// cylinder = { point = [x, y, z], axis = [dx, dy, dz], radius = [r_min, r_max], length = [s_min, s_max] }
+/// (length optional: the axial range from `point` along `axis`, m).
+CylinderSelector read_cylinder(const Table& t, const std::string& key) {
+  const Table ct = t.table(key);
+  CylinderSelector c;
+  c.point = ct.vec3("point");
+  c.axis = ct.vec3("axis");
+  if (std::hypot(c.axis[0], c.axis[1], c.axis[2]) == 0.0) ct.fail("axis", "expected a non-zero direction");
+  const std::vector<double> r = ct.numbers("radius", Range::non_negative());
+  if (r.size() != 2 || r[0] > r[1]) {
+    ct.fail("radius",
+            "expected the radius band [r_min, r_max] in m with 0 <= r_min <= r_max (a bore of "
+            "radius R: [R - a little, R + a little])");
+  }
+  c.r_min = r[0];
+  c.r_max = r[1];
+  if (ct.has("length")) {
+    const std::vector<double> s = ct.numbers("length");
+    if (s.size() != 2 || s[0] > s[1]) {
+      ct.fail("length",
+              "expected the axial range [s_min, s_max] in m from `point` along `axis`, s_min <= s_max");
+    }
+    c.s_min = s[0];
+    c.s_max = s[1];
+  }
+  ct.finish();
+  return c;
+}
+
+/// A volume interface: a point coupled (RBE2 or RBE3) to a node set, or the nodes in a box or on a cylinder.
 void read_coupling(const Table& pt, NamedPoint& p) {
   const auto surface = pt.optional_string("surface");
   if (surface) {
@@ -144,10 +173,14 @@ void read_coupling(const Table& pt, NamedPoint& p) {
     for (char& ch : p.surface) ch = static_cast<char>(std::toupper(static_cast<unsigned char>(ch)));
   }
   if (pt.has("box")) p.box = read_box(pt, "box");
-  if (!surface == !p.box) {
-    pt.fail("a volume interface couples to a surface: give surface = \"NSET name\" or box = [...], one of them");
+  if (pt.has("cylinder")) p.cylinder = read_cylinder(pt, "cylinder");
+  if (int(surface.has_value()) + int(p.box.has_value()) + int(p.cylinder.has_value()) != 1) {
+    pt.fail(
+        "a volume interface couples to a surface: give surface = \"NSET name\", box = [...] or "
+        "cylinder = {...}, one of them");
   }
   p.distributing = pt.optional_choice("coupling", {"rbe2", "rbe3"}).value_or("rbe2") == "rbe3";
+  p.max_distance = pt.number_or("max_distance", 0.0, Range::positive());
 }
 
 std::vector<NamedPoint> read_points(const Table& root, const std::string& key, bool couplings = false) {
@@ -194,16 +227,19 @@ void read_volume(const Table& t, Component& c) {
   VolumeGeometry& v = c.volume;
   v.where = t.location("mesh");
   const std::string mesh = t.string("mesh");
-  v.mesh = std::filesystem::path(mesh).is_absolute() ? std::filesystem::path(mesh)
-                                                      : c.file.parent_path() / mesh;
+  v.mesh =
+      std::filesystem::path(mesh).is_absolute() ? std::filesystem::path(mesh) : c.file.parent_path() / mesh;
   std::string ext = v.mesh.extension().string();
   for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
   const std::vector<std::string> known = {".inp", ".msh", ".geo", ".step", ".stp", ".iges", ".igs", ".brep"};
   if (std::find(known.begin(), known.end(), ext) == known.end()) {
-    t.fail("mesh", "expected a mesh (.inp of Abaqus/CalculiX, .msh of gmsh) or a geometry for gmsh (.geo, "
-                   ".step, .stp, .iges, .igs, .brep), got \"" + mesh + "\"");
+    t.fail("mesh",
+           "expected a mesh (.inp of Abaqus/CalculiX, .msh of gmsh) or a geometry for gmsh (.geo, "
+           ".step, .stp, .iges, .igs, .brep), got \"" +
+               mesh + "\"");
   }
-  if (!std::filesystem::exists(v.mesh)) t.fail("mesh", "the mesh file " + v.mesh.string() + " does not exist");
+  if (!std::filesystem::exists(v.mesh))
+    t.fail("mesh", "the mesh file " + v.mesh.string() + " does not exist");
   v.order = static_cast<int>(t.optional_integer("order", input::Range::closed(1, 2)).value_or(2));
   v.size = t.number_or("size", 0.0, input::Range::non_negative());
   v.elements_per_wavelength = t.number_or("elements_per_wavelength", 0.0, input::Range::non_negative());
@@ -212,7 +248,8 @@ void read_volume(const Table& t, Component& c) {
   }
   v.material = t.string("material");
   if (!c.materials.count(v.material)) t.fail("material", "unknown material \"" + v.material + "\"");
-  v.mass_like_calculix = t.optional_choice("mass_quadrature", {"exact", "stiffness"}).value_or("exact") == "stiffness";
+  v.mass_like_calculix =
+      t.optional_choice("mass_quadrature", {"exact", "stiffness"}).value_or("exact") == "stiffness";
   t.finish();
 }
 
@@ -240,7 +277,23 @@ Component read(const input::Document& doc, const std::filesystem::path& file) {
   for (const Table& ft : root.table_array("fix")) {
     Support s;
     s.path = ft.path();
-    if (ft.has("box") || c.kind == "volume") {
+    if (c.kind == "volume") {
+      // One selector: a box, a node set or a cylinder band.
+      const int given = int(ft.has("box")) + int(ft.has("surface")) + int(ft.has("cylinder"));
+      if (ft.has("at"))
+        ft.fail("at", "a support of a volume takes nodes by box, surface or cylinder, not at");
+      if (given != 1) {
+        ft.fail(
+            "a support of a volume needs one of box = [...], surface = \"NSET name\" or cylinder = {...}");
+      }
+      s.where = ft.location(ft.has("box") ? "box" : ft.has("surface") ? "surface" : "cylinder");
+      if (ft.has("box")) s.box = read_box(ft, "box");
+      if (ft.has("cylinder")) s.cylinder = read_cylinder(ft, "cylinder");
+      if (ft.has("surface")) {
+        s.surface = ft.string("surface");
+        for (char& ch : s.surface) ch = static_cast<char>(std::toupper(static_cast<unsigned char>(ch)));
+      }
+    } else if (ft.has("box")) {
       s.where = ft.location("box");
       s.box = read_box(ft, "box");
       if (ft.has("at")) ft.fail("at", "give either at (one node) or box (every node inside), not both");

@@ -6,6 +6,7 @@
 #include <set>
 #include <sstream>
 
+#include "condense/abaqus_mesh.hpp"
 #include "condense/beam_model.hpp"
 #include "condense/reduction.hpp"
 #include "condense/volume_model.hpp"
@@ -37,8 +38,8 @@ std::vector<int> locate(const FeModel& model, const std::vector<NamedPoint>& poi
   return nodes;
 }
 
-PointSet point_set(const FeModel& model, const std::vector<NamedPoint>& points,
-                   const std::vector<int>& nodes, const Eigen::MatrixXd& shapes) {
+PointSet point_set(const FeModel& model, const std::vector<NamedPoint>& points, const std::vector<int>& nodes,
+                   const Eigen::MatrixXd& shapes) {
   PointSet set;
   set.position.resize(static_cast<Eigen::Index>(points.size()), 3);
   for (std::size_t i = 0; i < points.size(); ++i) {
@@ -52,7 +53,8 @@ PointSet point_set(const FeModel& model, const std::vector<NamedPoint>& points,
 /// Boundary DOF of Craig-Bampton and Guyan: the free DOF of each interface node (its master's for the
 /// end of a rigid link), each once, in the order of the file; named "<interface>.<dof>".
 void collect_boundary(const FeModel& model, const std::vector<NamedPoint>& interfaces,
-                      const std::vector<int>& nodes, std::vector<int>& dofs, std::vector<std::string>& names) {
+                      const std::vector<int>& nodes, std::vector<int>& dofs,
+                      std::vector<std::string>& names) {
   // Free index of each master DOF: the identity entries of T.
   std::vector<int> free_of_dof(model.all_dofs(), -1);
   for (int col = 0; col < model.transform.outerSize(); ++col) {
@@ -119,8 +121,40 @@ int count_rigid_body_modes(const FeModel& model) {
 
 Superelement condense_component(const Component& c, EigenBackend backend, const Logger& log,
                                 StageTimer* timer, const EigenProgress& progress) {
+  CondenseRun run;
+  run.timer = timer;
+  run.progress = progress;
+  return condense_component(c, backend, log, run);
+}
+
+std::vector<std::pair<std::string, double>> stage_report(const StageTimer& timer, const Superelement& se) {
+  std::vector<std::pair<std::string, double>> stages;
+  for (const StageTimer::Stage& stage : timer.stages()) {
+    if (stage.name != "reduce") {
+      stages.emplace_back(stage.name, stage.seconds);
+      continue;
+    }
+    stages.emplace_back("order", se.order_seconds);
+    stages.emplace_back("factor", se.factor_seconds);
+    stages.emplace_back("eigen-solve", se.eigen_seconds);
+    stages.emplace_back(
+        "reduce", std::max(0.0, stage.seconds - se.order_seconds - se.factor_seconds - se.eigen_seconds));
+  }
+  return stages;
+}
+
+Superelement condense_component(const Component& c, EigenBackend backend, const Logger& log,
+                                const CondenseRun& run) {
+  StageTimer* timer = run.timer;
   const bool volume = c.kind == "volume";
-  const FeModel model = volume ? build_volume_model(c) : build_beam_model(c);
+  Mesh mesh;
+  if (volume) {
+    mesh = load_volume_mesh(c);
+    log.info("mesh: " + std::to_string(mesh.nodes.size()) + " nodes, " +
+             std::to_string(mesh.elements.size()) + " elements from " + c.volume.mesh.filename().string());
+    if (timer) timer->lap("mesh");
+  }
+  const FeModel model = volume ? build_volume_model(c, mesh) : build_beam_model(c);
   // A volume's interfaces are its coupling nodes; a beam's must lie on nodes of the beam.
   const std::vector<int> interface_nodes =
       volume ? model.coupling_nodes : locate(model, c.interfaces, c.point_tolerance, "interface");
@@ -150,7 +184,8 @@ Superelement condense_component(const Component& c, EigenBackend backend, const 
   in.mass = &M;
   in.settings = c.reduction;
   in.backend = backend;
-  in.progress = progress;
+  in.progress = run.progress;
+  in.ordering = run.ordering;
   in.rigid_body_modes = count_rigid_body_modes(model);
   collect_boundary(model, c.interfaces, interface_nodes, in.boundary_dofs, in.boundary_names);
 
@@ -203,6 +238,19 @@ Superelement condense_component(const Component& c, EigenBackend backend, const 
   se.dof_count = model.all_dofs();
   se.free_dof_count = model.free_dofs();
   se.max_residual = r.max_residual;
+  se.factor_ordering = r.factor.ordering;
+  se.matrix_nonzeros = r.factor.matrix_nonzeros;
+  se.factor_nonzeros = r.factor.factor_nonzeros;
+  se.factor_flops = r.factor.flops;
+  se.factorizations = r.factor.factorizations;
+  se.order_seconds = r.factor.order_seconds;
+  se.factor_seconds = r.factor.factor_seconds;
+  se.eigen_seconds = r.eigen_seconds;
+  if (run.mesh_export && volume) {
+    *run.mesh_export =
+        make_mesh_export(mesh, shapes, se.coordinates,
+                         se.orthonormalized || se.method == "modal" ? se.frequency_hz : Eigen::VectorXd());
+  }
   if (timer) timer->lap("invariants");
   return se;
 }

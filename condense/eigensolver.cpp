@@ -16,11 +16,11 @@
 
 #include <Spectra/MatOp/SparseSymMatProd.h>
 #include <Spectra/SymGEigsShiftSolver.h>
-#include <Eigen/CholmodSupport>
 #include <Eigen/Eigenvalues>
 #include <arpack.hpp>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <iomanip>
@@ -32,6 +32,7 @@
 #include <vector>
 
 #include "common/error.hpp"
+#include "condense/sparse_cholesky.hpp"
 
 namespace nvh::condense {
 namespace {
@@ -93,7 +94,8 @@ class ShiftInvertOperator {
  public:
   using Scalar = double;
 
-  ShiftInvertOperator(const SparseMatrix& K, const SparseMatrix& M, double sigma) : K_(K), M_(M) {
+  ShiftInvertOperator(const SparseMatrix& K, const SparseMatrix& M, double sigma, Ordering ordering)
+      : K_(K), M_(M), factor_(ordering) {
     factorize(sigma);
   }
 
@@ -101,6 +103,7 @@ class ShiftInvertOperator {
   Eigen::Index cols() const { return K_.cols(); }
   double shift() const { return sigma_; }
   int solves() const { return solves_; }
+  const FactorStats& factor_stats() const { return factor_.stats(); }
 
   /// Called by Spectra with the solver's shift; refactorizes only if it differs from the factored one.
   void set_shift(double sigma) {
@@ -108,9 +111,7 @@ class ShiftInvertOperator {
   }
 
   void perform_op(const double* x_in, double* y_out) const {
-    Eigen::Map<const Eigen::VectorXd> x(x_in, rows());
-    Eigen::Map<Eigen::VectorXd> y(y_out, rows());
-    y = factor_.solve(x);
+    factor_.solve(x_in, y_out);
     ++solves_;
     if (progress_ && (solves_ - run_start_) % 8 == 0) progress_(solves_ - run_start_, run_expected_);
   }
@@ -123,24 +124,9 @@ class ShiftInvertOperator {
   }
 
  private:
-  /// CHOLMOD's factor with access to the failing column (CHOLMOD's L->minor, in the permuted order).
-  class Factor : public Eigen::CholmodSupernodalLLT<SparseMatrix, Eigen::Lower> {
-   public:
-    /// The DOF (original numbering) at which the factorization broke down, -1 if unknown.
-    Eigen::Index failed_dof() const {
-      if (m_cholmodFactor == nullptr) return -1;
-      const auto minor = static_cast<Eigen::Index>(m_cholmodFactor->minor);
-      if (minor < 0 || minor >= static_cast<Eigen::Index>(m_cholmodFactor->n)) return -1;
-      if (m_cholmodFactor->Perm == nullptr) return minor;
-      return static_cast<const int*>(m_cholmodFactor->Perm)[minor];
-    }
-  };
-
   void factorize(double sigma) {
     const SparseMatrix a = K_ - sigma * M_;
-    factor_.cholmod().print = 0;  // CHOLMOD's own "not positive definite" warning: we throw instead
-    factor_.compute(a);
-    if (factor_.info() != Eigen::Success) {
+    if (!factor_.factorize(a)) {
       std::string where;
       if (const Eigen::Index dof = factor_.failed_dof(); dof >= 0) {
         where = ", pivot of DOF " + std::to_string(dof) + " of " + std::to_string(rows());
@@ -155,7 +141,7 @@ class ShiftInvertOperator {
 
   const SparseMatrix& K_;
   const SparseMatrix& M_;
-  Factor factor_;
+  SparseCholesky factor_;
   double sigma_ = std::numeric_limits<double>::quiet_NaN();
   mutable int solves_ = 0;
   int run_start_ = 0;
@@ -524,7 +510,10 @@ EigenResult solve_eigenproblem(const SparseMatrix& K_in, const SparseMatrix& M_i
   double absolute_gap = 1e-10 * norm1(K) / M.diagonal().maxCoeff();
   if (!dense) {
     const double sigma = request.shift < 0.0 ? request.shift : automatic_shift(K, M, request);
-    ShiftInvertOperator op(K, M, sigma);
+    ShiftInvertOperator op(K, M, sigma, request.ordering);
+    // The Lanczos runs' time, without refactorizations at a moved shift (counted in the factor's stats).
+    const auto iteration_start = std::chrono::steady_clock::now();
+    const double factor_seconds_before = op.factor_stats().factor_seconds;
     const auto solve = [&](int nev) {
       op.start_run(lanczos_size(nev, n) + 1, &request.progress);
       return request.backend == EigenBackend::kArpack ? solve_arpack(op, M, nev, request.tolerance)
@@ -571,6 +560,10 @@ EigenResult solve_eigenproblem(const SparseMatrix& K_in, const SparseMatrix& M_i
     }
     result.shift = op.shift();
     result.matrix_operations = op.solves();
+    result.factor = op.factor_stats();
+    result.iteration_seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - iteration_start).count() -
+        (result.factor.factor_seconds - factor_seconds_before);
     absolute_gap = std::max(absolute_gap, 1e-8 * std::abs(op.shift()));
   }
   if (dense) {
@@ -581,7 +574,10 @@ EigenResult solve_eigenproblem(const SparseMatrix& K_in, const SparseMatrix& M_i
       throw Error(what + " of a model with " + std::to_string(n) +
                   " degrees of freedom: that needs the dense eigensolver, and the model is too large for it");
     }
+    const auto dense_start = std::chrono::steady_clock::now();
     raw = solve_dense(K, M);
+    result.iteration_seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - dense_start).count();
     result.shift = 0.0;
     absolute_gap = std::max(absolute_gap, 1e-10 * raw.values.cwiseAbs().maxCoeff());
   }

@@ -17,6 +17,8 @@
 #include <functional>
 #include <string>
 
+#include "condense/sparse_cholesky.hpp"
+
 namespace nvh::condense {
 
 using SparseMatrix = Eigen::SparseMatrix<double>;  // column-major
@@ -44,16 +46,19 @@ struct EigenRequest {
   /// (the last term, the round-off floor of K x, keeps rigid modes - K x and lambda both round-off - from
   /// failing the check).
   double residual_limit = 1e-6;
-  EigenProgress progress;  ///< optional
+  EigenProgress progress;               ///< optional
+  Ordering ordering = Ordering::kAuto;  ///< fill-reducing ordering of the factorization
 };
 
 struct EigenResult {
   Eigen::VectorXd
       eigenvalues;          ///< lambda = omega^2, ascending (tiny negatives of rigid modes kept as computed)
   Eigen::MatrixXd vectors;  ///< columns M-orthonormal: X^T M X = I
-  Eigen::VectorXd residuals;  ///< relative residual of each mode (see residual_limit)
-  double shift = 0.0;         ///< the shift used (0 for kDense)
-  int matrix_operations = 0;  ///< number of solves with the factorization (cost measure)
+  Eigen::VectorXd residuals;       ///< relative residual of each mode (see residual_limit)
+  double shift = 0.0;              ///< the shift used (0 for kDense)
+  int matrix_operations = 0;       ///< number of solves with the factorization (cost measure)
+  FactorStats factor;              ///< ordering, fill and time of the factorization(s) (none for kDense)
+  double iteration_seconds = 0.0;  ///< wall time of the Lanczos runs (or of the dense solve)
 };
 
 /// Lowest eigenpairs of K x = lambda M x. Throws nvh::Error if the factorization fails (K - sigma M not

@@ -55,6 +55,29 @@ std::string frequency_list(const Eigen::VectorXd& f, int max_count) {
   return out.str();
 }
 
+/// The cost of the run, printed at the end: time of each stage, peak memory, and the factorization.
+std::string run_report(const nvh::StageTimer& timer, const nvh::condense::Superelement& se) {
+  std::ostringstream out;
+  out.setf(std::ios::fixed);
+  out.precision(2);
+  out << "stages [s]:";
+  double total = 0.0;
+  for (const auto& [name, seconds] : nvh::condense::stage_report(timer, se)) {
+    out << " " << name << " " << seconds << ",";
+    total += seconds;
+  }
+  out << " total " << total << "; peak memory " << static_cast<double>(nvh::peak_memory_bytes()) / (1 << 20)
+      << " MiB";
+  if (!se.factor_ordering.empty()) {
+    out.unsetf(std::ios::fixed);
+    out.precision(3);
+    out << "\n  factor: " << se.factor_ordering << " ordering, nnz(L) " << se.factor_nonzeros << " = "
+        << se.factor_nonzeros / se.matrix_nonzeros << " x nnz(tril A), " << se.factor_flops / 1e9
+        << " Gflop, " << se.factorizations << " factorization" << (se.factorizations == 1 ? "" : "s");
+  }
+  return out.str();
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -67,7 +90,8 @@ int main(int argc, char** argv) {
   std::string component_file, output_file, method, eigensolver = "spectra";
   std::optional<double> fmax;
   std::optional<int> modes;
-  bool quiet = false, verbose = false;
+  bool quiet = false, verbose = false, keep_mesh = false;
+  std::string ordering = "auto";
   app.add_option("COMPONENT", component_file, "component file (.toml); see docs/component-format.md")
       ->required();
   app.add_option("-o,--output", output_file,
@@ -84,6 +108,13 @@ int main(int argc, char** argv) {
                  "eigen-solver backend: spectra (shift-invert Lanczos, default), arpack (for comparison), "
                  "dense (small models)")
       ->check(CLI::IsMember({"spectra", "arpack", "dense"}));
+  app.add_option("--ordering", ordering,
+                 "fill-reducing ordering of the sparse factorizations: auto (CHOLMOD's choice: AMD, or METIS "
+                 "when AMD fills much; default), amd, metis, nesdis")
+      ->check(CLI::IsMember({"auto", "amd", "metis", "nesdis"}));
+  app.add_flag("--keep-mesh", keep_mesh,
+               "volume components: also write the mesh and the shapes of all coordinates on it for ParaView, "
+               "OUT.xdmf with its arrays in OUT.mesh.h5 (beside OUT.h5)");
   CLI::Option* quiet_flag = app.add_flag("-q,--quiet", quiet, "print errors only");
   app.add_flag("-v,--verbose", verbose, "print more detail (stage timings, all frequencies)")
       ->excludes(quiet_flag);
@@ -115,6 +146,7 @@ int main(int argc, char** argv) {
                                            : ReductionMethod::kCraigBampton;
     }
     options.backend = parse_eigen_backend(eigensolver);
+    options.ordering = parse_ordering(ordering);
     apply_options(component, options);
     timer.lap("read");
     {
@@ -141,17 +173,30 @@ int main(int argc, char** argv) {
       }
       bar->update(std::min(done, expected));
     };
-    Superelement se = condense_component(component, options.backend, log, &timer, progress);
+    CondenseRun run;
+    run.timer = &timer;
+    run.progress = progress;
+    run.ordering = options.ordering;
+    MeshExport mesh_export;
+    if (keep_mesh) {
+      if (component.kind != "volume") {
+        throw Error("--keep-mesh is for volume components (a beam model has no solid mesh to keep)");
+      }
+      run.mesh_export = &mesh_export;
+    }
+    Superelement se = condense_component(component, options.backend, log, run);
     bar.reset();
-    for (const StageTimer::Stage& stage : timer.stages()) {
-      se.stage_names.push_back(stage.name);
-      se.stage_seconds.push_back(stage.seconds);
+    for (const auto& [name, seconds] : stage_report(timer, se)) {
+      se.stage_names.push_back(name);
+      se.stage_seconds.push_back(seconds);
     }
     se.peak_memory_bytes = static_cast<double>(peak_memory_bytes());
     // Every input is hashed: the component file, and a volume component's mesh.
     std::vector<std::filesystem::path> inputs{component_file};
     if (component.kind == "volume") inputs.push_back(component.volume.mesh);
     const Provenance provenance = make_provenance("condense", argc, argv, inputs);
+    // The mesh export first: the superelement file, written last, marks a complete run.
+    if (keep_mesh) write_mesh_export(output_file, mesh_export, provenance);
     write_superelement(output_file, se, provenance);
     timer.lap("write");
 
@@ -163,8 +208,12 @@ int main(int argc, char** argv) {
     summary << "  frequencies [Hz]: " << frequency_list(se.frequency_hz, verbose ? 1000 : 8) << "\n";
     summary << "  mass " << se.inertia.mass << " kg, centre of mass ["
             << se.inertia.center_of_mass.transpose() << "] m";
+    if (keep_mesh) {
+      summary << "\n  mesh and shapes for ParaView: " << mesh_export_xdmf_path(output_file).string() << " ("
+              << mesh_export_h5_path(output_file).filename().string() << ")";
+    }
     log.info(summary.str());
-    log.detail("stages:\n" + timer.table());
+    log.info(run_report(timer, se));
     return static_cast<int>(ExitCode::kSuccess);
   } catch (const Error& e) {
     log.error(e.what());

@@ -1,6 +1,5 @@
 #include "condense/reduction.hpp"
 
-#include <Eigen/CholmodSupport>
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
@@ -41,6 +40,7 @@ EigenRequest request_for(const ReductionSettings& s, int rigid, const ReductionI
   EigenRequest r;
   r.backend = in.backend;
   r.progress = in.progress;
+  r.ordering = in.ordering;
   if (s.modes > 0) {
     r.modes = s.modes + rigid;
   } else {
@@ -85,6 +85,8 @@ ReducedModel modal_reduction(const ReductionInput& in, const Logger& log) {
   r.frequency_hz = omega / kTwoPi;
   for (int i = 0; i < m; ++i) r.coordinates.push_back("mode " + std::to_string(i + 1));
   r.max_residual = eig.residuals.size() ? eig.residuals.maxCoeff() : 0.0;
+  r.factor = eig.factor;
+  r.eigen_seconds = eig.iteration_seconds;
   log.detail("modal: " + std::to_string(m) + " elastic modes, " + hz(r.frequency_hz(0)) + " .. " +
              hz(r.frequency_hz(m - 1)));
   return r;
@@ -113,21 +115,24 @@ ReducedModel craig_bampton(const ReductionInput& in, bool with_fixed_interface_m
   const SparseMatrix Kii = submatrix(K, i_dofs, i_dofs);
   const SparseMatrix Kib = submatrix(K, i_dofs, b);
   Eigen::MatrixXd psi(ni, nb);
+  FactorStats factor;
   if (ni > 0) {
-    Eigen::CholmodSupernodalLLT<SparseMatrix, Eigen::Lower> chol(Kii);
-    if (chol.info() != Eigen::Success) {
+    SparseCholesky chol(in.ordering);
+    if (!chol.factorize(Kii)) {
       throw Error(
           "the interior of the model is not restrained by the interface points and supports (the "
           "stiffness with the interface DOF held is singular): add an interface or a support, or "
           "check that the beam is connected");
     }
     psi = -chol.solve(Eigen::MatrixXd(Kib));
+    factor = chol.stats();
   }
 
   // Fixed-interface modes.
   Eigen::MatrixXd phi(ni, 0);
   Eigen::VectorXd fixed_hz;
   double max_residual = 0.0;
+  double eigen_seconds = 0.0;
   if (with_fixed_interface_modes && ni > 0) {
     const SparseMatrix Mii = submatrix(M, i_dofs, i_dofs);
     const EigenResult eig = solve_eigenproblem(Kii, Mii, request_for(s, 0, in));
@@ -144,12 +149,16 @@ ReducedModel craig_bampton(const ReductionInput& in, bool with_fixed_interface_m
     phi = eig.vectors;
     fixed_hz = eig.eigenvalues.unaryExpr([](double l) { return frequency_hz(l); });
     max_residual = eig.residuals.size() ? eig.residuals.maxCoeff() : 0.0;
+    factor.add(eig.factor);
+    eigen_seconds = eig.iteration_seconds;
   }
   const int nm = static_cast<int>(phi.cols());
 
   ReducedModel r;
   r.fixed_interface_hz = fixed_hz;
   r.max_residual = max_residual;
+  r.factor = factor;
+  r.eigen_seconds = eigen_seconds;
   r.basis = Eigen::MatrixXd::Zero(n, nb + nm);
   for (int j = 0; j < nb; ++j) r.basis(b[j], j) = 1.0;
   for (int i = 0; i < ni; ++i) {

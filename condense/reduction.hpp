@@ -32,7 +32,8 @@ struct ReductionInput {
   int rigid_body_modes = 0;                 ///< how many zero-frequency modes the unsupported model has
   ReductionSettings settings;
   EigenBackend backend = EigenBackend::kSpectra;
-  EigenProgress progress;  ///< optional, handed to the eigen-solves
+  EigenProgress progress;               ///< optional, handed to the eigen-solves
+  Ordering ordering = Ordering::kAuto;  ///< fill-reducing ordering of every factorization
 };
 
 struct ReducedModel {
@@ -53,6 +54,10 @@ struct ReducedModel {
   Eigen::VectorXd fixed_interface_hz;
   /// Largest relative residual of the full-model eigen-solve.
   double max_residual = 0.0;
+  /// The sparse factorizations (eigen-solve, constraint modes): ordering, fill, time.
+  FactorStats factor;
+  /// Wall time of the eigen-solves' iterations (without their factorizations), s.
+  double eigen_seconds = 0.0;
 };
 
 /// nvh::Error when fmax lies below the first (elastic or fixed-interface) mode, the interior is not

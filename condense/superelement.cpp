@@ -112,7 +112,8 @@ void write_superelement(const std::filesystem::path& path, const Superelement& s
   write_points(observe, se.observers, n, "observation");
   if (se.observers.normals.rows() > 0) {
     observe.write("normal", se.observers.normals);
-    observe.set_attribute("description", "outward unit normal of the surface at each observation point", "normal");
+    observe.set_attribute("description", "outward unit normal of the surface at each observation point",
+                          "normal");
   }
   if (se.surface) {
     const SurfaceExport& s = *se.surface;
@@ -123,15 +124,19 @@ void write_superelement(const std::filesystem::path& path, const Superelement& s
     surface.write("position", s.position);
     surface.set_attribute("units", "m", "position");
     surface.write("normal", s.normal);
-    surface.set_attribute("description", "outward unit normal (area-weighted over the adjacent triangles)", "normal");
+    surface.set_attribute("description", "outward unit normal (area-weighted over the adjacent triangles)",
+                          "normal");
     surface.write("area", s.area);
     surface.set_attribute("units", "m^2", "area");
-    surface.set_attribute("description", "area each node represents (a third of its adjacent triangles)", "area");
+    surface.set_attribute("description", "area each node represents (a third of its adjacent triangles)",
+                          "area");
     std::vector<std::int64_t> triangles;
     for (const auto& t : s.triangles) triangles.insert(triangles.end(), t.begin(), t.end());
     surface.write("triangles", std::span<const std::int64_t>(triangles));
-    surface.set_attribute("description", "flat sub-triangles, 3 consecutive 0-based indices into the surface nodes "
-                                         "(read as shape (triangles, 3))", "triangles");
+    surface.set_attribute("description",
+                          "flat sub-triangles, 3 consecutive 0-based indices into the surface nodes "
+                          "(read as shape (triangles, 3))",
+                          "triangles");
     surface.write("shape", s.shape, {count, 3, static_cast<hsize_t>(n)});
     surface.set_attribute("units", "m per unit coordinate", "shape");
   }
@@ -183,6 +188,14 @@ void write_superelement(const std::filesystem::path& path, const Superelement& s
     model.set_attribute("stage_names", se.stage_names);
     model.set_attribute("stage_seconds", se.stage_seconds);
     model.set_attribute("peak_memory_bytes", se.peak_memory_bytes);
+  }
+  if (!se.factor_ordering.empty()) {
+    model.set_attribute("factor_ordering", se.factor_ordering);
+    model.set_attribute("matrix_nonzeros", se.matrix_nonzeros);
+    model.set_attribute("factor_nonzeros", se.factor_nonzeros);
+    model.set_attribute("factor_fill", se.factor_nonzeros / se.matrix_nonzeros);
+    model.set_attribute("factor_flops", se.factor_flops);
+    model.set_attribute("factorizations", static_cast<std::int64_t>(se.factorizations));
   }
   file.commit();
 }
@@ -273,6 +286,18 @@ Superelement read_superelement(const std::filesystem::path& path) {
   se.dof_count = static_cast<int>(model.int_attribute("dofs"));
   se.free_dof_count = static_cast<int>(model.int_attribute("free_dofs"));
   se.max_residual = model.double_attribute("max_eigen_residual");
+  if (model.has_attribute("stage_names")) {
+    se.stage_names = model.strings_attribute("stage_names");
+    se.stage_seconds = model.doubles_attribute("stage_seconds");
+    se.peak_memory_bytes = model.double_attribute("peak_memory_bytes");
+  }
+  if (model.has_attribute("factor_ordering")) {
+    se.factor_ordering = model.string_attribute("factor_ordering");
+    se.matrix_nonzeros = model.double_attribute("matrix_nonzeros");
+    se.factor_nonzeros = model.double_attribute("factor_nonzeros");
+    se.factor_flops = model.double_attribute("factor_flops");
+    se.factorizations = static_cast<int>(model.int_attribute("factorizations"));
+  }
   return se;
 }
 

@@ -30,12 +30,12 @@ struct PointSet {
 
 /// The outer surface of a volume component with the translations of its nodes per coordinate.
 struct SurfaceExport {
-  std::vector<std::int64_t> labels;              ///< mesh node labels
-  Eigen::MatrixXd position;                      ///< nodes x 3, m
-  Eigen::MatrixXd normal;                        ///< nodes x 3, outward unit normals
-  Eigen::VectorXd area;                          ///< nodes, m^2
-  std::vector<std::array<int, 3>> triangles;     ///< flat sub-triangles, 0-based indices into the nodes
-  std::vector<double> shape;                     ///< (nodes, 3, n) row-major: ux uy uz per unit coordinate
+  std::vector<std::int64_t> labels;           ///< mesh node labels
+  Eigen::MatrixXd position;                   ///< nodes x 3, m
+  Eigen::MatrixXd normal;                     ///< nodes x 3, outward unit normals
+  Eigen::VectorXd area;                       ///< nodes, m^2
+  std::vector<std::array<int, 3>> triangles;  ///< flat sub-triangles, 0-based indices into the nodes
+  std::vector<double> shape;                  ///< (nodes, 3, n) row-major: ux uy uz per unit coordinate
 };
 
 struct Superelement {
@@ -52,8 +52,8 @@ struct Superelement {
   std::vector<std::string> coordinates;
   Eigen::MatrixXd mass, stiffness, damping;  ///< /reduced/*
 
-  PointSet interfaces;  ///< /interface/*
-  PointSet observers;   ///< /observe/*
+  PointSet interfaces;                   ///< /interface/*
+  PointSet observers;                    ///< /observe/*
   std::optional<SurfaceExport> surface;  ///< /surface/* when exported
 
   RigidBodyInertia inertia;    ///< /invariants/mass, center_of_mass, inertia, ...
@@ -69,6 +69,16 @@ struct Superelement {
   std::vector<std::string> stage_names;
   std::vector<double> stage_seconds;
   double peak_memory_bytes = 0.0;
+  /// The sparse factorizations (empty ordering: none, e.g. a small model solved dense): the ordering,
+  /// nnz of the matrix's lower triangle and of the largest factor L, its flops, their count.
+  std::string factor_ordering;
+  double matrix_nonzeros = 0.0;
+  double factor_nonzeros = 0.0;
+  double factor_flops = 0.0;
+  int factorizations = 0;
+  double order_seconds = 0.0;   ///< ordering and symbolic analysis of the factorizations
+  double factor_seconds = 0.0;  ///< their numeric factorization
+  double eigen_seconds = 0.0;   ///< Lanczos iterations (or the dense eigen-solve)
 
   int size() const { return static_cast<int>(mass.rows()); }
 };

@@ -5,16 +5,45 @@
 #include <Eigen/QR>
 #include <Eigen/SVD>
 #include <cmath>
+#include <limits>
 #include <map>
+#include <sstream>
 
 #include "common/error.hpp"
 #include "condense/abaqus_mesh.hpp"
 #include "condense/gmsh_mesh.hpp"
+#include "condense/node_selector.hpp"
 #include "condense/solid_element.hpp"
 
 namespace nvh::condense {
 
 namespace {
+
+/// A connection point far from its surface is almost always a typing or unit error (mm for m, a wrong
+/// sign): the point must lie within the surface's size - the diagonal of its nodes' bounding box, or
+/// interface.max_distance if given - of the nearest node of its surface. A bore's centre lies one radius
+/// from its surface, well within its diameter.
+void check_reach(const FeModel& model, const NamedPoint& p, const std::vector<int>& surface,
+                 const std::string& key) {
+  const Eigen::Vector3d at(p.at[0], p.at[1], p.at[2]);
+  Eigen::Vector3d lo = model.nodes[surface[0]], hi = lo;
+  double nearest = std::numeric_limits<double>::infinity();
+  for (int n : surface) {
+    lo = lo.cwiseMin(model.nodes[n]);
+    hi = hi.cwiseMax(model.nodes[n]);
+    nearest = std::min(nearest, (model.nodes[n] - at).norm());
+  }
+  const double limit = p.max_distance > 0.0 ? p.max_distance : (hi - lo).norm();
+  if (nearest > limit) {
+    std::ostringstream m;
+    m.precision(6);
+    m << "the connection point of interface \"" << p.name << "\" at [" << at.transpose() << "] lies "
+      << nearest << " m from the nearest node of its " << key << ", farther than "
+      << (p.max_distance > 0.0 ? "max_distance (" : "the size of the surface (") << limit
+      << " m); check the point's coordinates and units (m), or set max_distance if the lever is intended";
+    throw Error(m.str(), p.where, p.path + ".at");
+  }
+}
 
 /// Rigid couplings (RBE2): the coupling node of interface i (node first_coupling + i, all 6 DOF
 /// active) becomes the master of the mesh nodes of its surface, u_s = u_m + theta_m x r. The coupling
@@ -27,27 +56,10 @@ std::vector<std::vector<int>> add_couplings(FeModel& model, const Mesh& mesh, co
   for (std::size_t i = 0; i < interfaces.size(); ++i) {
     const NamedPoint& p = interfaces[i];
     const int master = first_coupling + static_cast<int>(i);
-    std::vector<int> surface;
-    if (!p.surface.empty()) {
-      const auto it = mesh.node_sets.find(p.surface);
-      if (it == mesh.node_sets.end()) {
-        std::string sets;
-        for (const auto& [name, nodes] : mesh.node_sets) sets += (sets.empty() ? "" : ", ") + name;
-        throw Error("the node set \"" + p.surface + "\" is not in the mesh " + mesh.file +
-                        (sets.empty() ? " (it has no *NSET)" : " (its node sets: " + sets + ")"),
-                    p.where, p.path + ".surface");
-      }
-      for (int n : it->second)
-        if (used[n]) surface.push_back(n);
-    } else {
-      const auto& b = *p.box;
-      for (int n = 0; n < first_coupling; ++n) {
-        const Eigen::Vector3d& x = model.nodes[n];
-        bool inside = used[n];
-        for (int k = 0; k < 3; ++k) inside = inside && x(k) >= b[k] - 1e-6 && x(k) <= b[3 + k] + 1e-6;
-        if (inside) surface.push_back(n);
-      }
-    }
+    NodeSelector selector{p.surface, p.box,  p.cylinder,
+                          p.where,   p.path, "the coupling of interface \"" + p.name + "\""};
+    const std::vector<int> surface = select_nodes(mesh, used, selector);
+    check_reach(model, p, surface, selector.key());
     // At least three nodes not on one line, or the coupling's rotations would have no stiffness.
     Eigen::MatrixXd centred(3, surface.size());
     Eigen::Vector3d mean = Eigen::Vector3d::Zero();
@@ -58,7 +70,7 @@ std::vector<std::vector<int>> add_couplings(FeModel& model, const Mesh& mesh, co
     if (surface.size() < 3 || svd.singularValues().size() < 2 || svd.singularValues()(1) <= 1e-9 * scale) {
       throw Error("the coupling of interface \"" + p.name + "\" holds " + std::to_string(surface.size()) +
                       " mesh nodes; it needs at least three that are not on one line",
-                  p.where, p.path + (p.surface.empty() ? ".box" : ".surface"));
+                  p.where, p.path + "." + selector.key());
     }
     surfaces.push_back(surface);
     for (int n : surface) {
@@ -132,13 +144,39 @@ void add_distributing_constraints(FeModel& model, const std::vector<NamedPoint>&
   }
 }
 
+/// Supports: a box takes every node inside (mesh nodes and interface points, see apply_supports); a node
+/// set or a cylinder takes mesh nodes. Nodes that follow a rigid coupling are held through its point.
+void apply_volume_supports(FeModel& model, const Mesh& mesh, const std::vector<bool>& used,
+                           const Component& c) {
+  std::vector<Support> boxes;
+  for (const Support& s : c.supports)
+    if (s.box) boxes.push_back(s);
+  apply_supports(model, boxes, c.point_tolerance);
+  for (const Support& s : c.supports) {
+    if (s.box) continue;
+    const NodeSelector selector{s.surface, std::nullopt, s.cylinder,
+                                s.where,   s.path,       "the support " + s.path};
+    int held = 0;
+    for (int n : select_nodes(mesh, used, selector)) {
+      if (model.master_of[n] != n) continue;
+      ++held;
+      for (int d = 0; d < 6; ++d)
+        if (s.dofs[d]) model.supported_dof[6 * n + d] = true;
+    }
+    if (held == 0) {
+      throw Error("every node the support takes follows a rigid coupling; hold the interface's point instead",
+                  s.where, s.path + "." + selector.key());
+    }
+  }
+}
+
 double mesh_size(const Component& c) {
   const VolumeGeometry& v = c.volume;
   if (v.elements_per_wavelength <= 0.0) return v.size;
   // The shortest wavelength of interest is the shear wavelength c_s / fmax, c_s = sqrt(G / rho).
   if (c.reduction.fmax_hz <= 0.0) {
-    throw Error("elements_per_wavelength needs reduction.fmax (the size follows the frequency range)", v.where,
-                "volume.elements_per_wavelength");
+    throw Error("elements_per_wavelength needs reduction.fmax (the size follows the frequency range)",
+                v.where, "volume.elements_per_wavelength");
   }
   const Material& m = c.materials.at(v.material);
   return std::sqrt(m.shear_modulus() / m.rho) / c.reduction.fmax_hz / v.elements_per_wavelength;
@@ -146,18 +184,26 @@ double mesh_size(const Component& c) {
 
 }  // namespace
 
-FeModel build_volume_model(const Component& c) {
+Mesh load_volume_mesh(const Component& c) {
   // An Abaqus/CalculiX mesh is read as it is; anything else goes through gmsh (a .msh is read, a
   // geometry is meshed with second-order tetrahedra by default).
   std::vector<std::string> skipped;
   const bool inp = c.volume.mesh.extension() == ".inp" || c.volume.mesh.extension() == ".INP";
-  const Mesh mesh = inp ? read_abaqus_mesh(c.volume.mesh, &skipped)
-                        : mesh_with_gmsh(GmshRequest{c.volume.mesh, c.volume.order, mesh_size(c), 1});
+  Mesh mesh = inp ? read_abaqus_mesh(c.volume.mesh, &skipped)
+                  : mesh_with_gmsh(GmshRequest{c.volume.mesh, c.volume.order, mesh_size(c), 1});
   if (mesh.elements.empty()) {
-    throw Error("the mesh " + c.volume.mesh.string() +
-                    " holds no solid elements (C3D4, C3D10, C3D8 or C3D20)",
-                c.volume.where, "volume.mesh");
+    throw Error(
+        "the mesh " + c.volume.mesh.string() + " holds no solid elements (C3D4, C3D10, C3D8 or C3D20)",
+        c.volume.where, "volume.mesh");
   }
+  return mesh;
+}
+
+FeModel build_volume_model(const Component& c) {
+  return build_volume_model(c, load_volume_mesh(c));
+}
+
+FeModel build_volume_model(const Component& c, const Mesh& mesh) {
   const Material& mat = c.materials.at(c.volume.material);
   const IsotropicMaterial material{mat.E, mat.nu, mat.rho};
 
@@ -187,8 +233,9 @@ FeModel build_volume_model(const Component& c) {
     for (int i = 0; i < n; ++i) x.col(i) = model.nodes[e.nodes[i]];
     SolidElementMatrices m;
     try {
-      m = solid_element(type, x, material,
-                        c.volume.mass_like_calculix ? MassQuadrature::kStiffnessRule : MassQuadrature::kExact);
+      m = solid_element(
+          type, x, material,
+          c.volume.mass_like_calculix ? MassQuadrature::kStiffnessRule : MassQuadrature::kExact);
     } catch (const Error& err) {
       throw Error("element " + std::to_string(e.id) + " (" + e.type + "): " + err.message(),
                   SourceLocation{mesh.file, e.line, 0}, "");
@@ -211,7 +258,8 @@ FeModel build_volume_model(const Component& c) {
         }
         // int rho x_k u_A dV = sum_j m_ij x_k(j) u_A(i): the position is interpolated like u.
         for (int k = 0; k < 3; ++k)
-          for (int a = 0; a < 3; ++a) model.position_moment_all(6 * ni + a, 3 * k + a) += mij * model.nodes[nj](k);
+          for (int a = 0; a < 3; ++a)
+            model.position_moment_all(6 * ni + a, 3 * k + a) += mij * model.nodes[nj](k);
       }
     }
     ++model.element_count;
@@ -231,7 +279,7 @@ FeModel build_volume_model(const Component& c) {
     for (int b = 0; b < 3; ++b) model.component_mass_all[a][b] = assemble(ct[a][b]);
 
   const std::vector<std::vector<int>> surfaces = add_couplings(model, mesh, used, c.interfaces, mesh_nodes);
-  apply_supports(model, c.supports, c.point_tolerance);
+  apply_volume_supports(model, mesh, used, c);
   add_distributing_constraints(model, c.interfaces, surfaces);
   model.surface = extract_surface(mesh);
   model.labels = mesh.node_ids;

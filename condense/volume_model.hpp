@@ -2,13 +2,22 @@
 // The finite-element model of a 3D solid component from a mesh made elsewhere (Abaqus/CalculiX .inp
 // with C3D4, C3D10, C3D8 or C3D20 elements): isotropic linear elasticity, consistent mass, supports
 // on boxes of nodes. Solid nodes carry translations only; their rotation DOF are inactive.
+#include "condense/abaqus_mesh.hpp"
 #include "condense/component.hpp"
 #include "condense/fe_model.hpp"
 
 namespace nvh::condense {
 
-/// Build the model; nvh::Error naming the mesh file, line and element for unreadable meshes and
-/// inverted elements, and the component entry for supports that hold nothing.
+/// The component's mesh: an .inp read as it is, anything else through gmsh (a .msh read, a geometry
+/// meshed). nvh::Error naming the file if it is unreadable or holds no solid element.
+Mesh load_volume_mesh(const Component& component);
+
+/// Build the model on a loaded mesh; nvh::Error naming the mesh file, line and element for inverted
+/// elements, and the component entry for selectors that take no node, unknown node sets and connection
+/// points far from their surface.
+FeModel build_volume_model(const Component& component, const Mesh& mesh);
+
+/// Both steps.
 FeModel build_volume_model(const Component& component);
 
 }  // namespace nvh::condense
