@@ -34,6 +34,31 @@ class SosFilter {
   std::vector<double> state_;
 };
 
+/// Four cascades of up to four sections each run in lock-step, one per lane, software-pipelined across
+/// sections (iir.cpp): a stage of the octave bank (three band-passes and the anti-alias low-pass) costs
+/// little more than one cascade. Shorter cascades are padded with identity sections. The outputs are those
+/// of the cascades delayed by three samples.
+class CascadeLanes4 {
+ public:
+  static constexpr int kLanes = 4;
+  static constexpr int kSections = 4;
+  /// Samples by which the outputs lag the input (the pipeline fills with zeros first).
+  static constexpr int kDelay = kSections - 1;
+  /// Lane l gets `cascades[l]` (at most 4 lanes, each at most 4 sections).
+  explicit CascadeLanes4(const std::vector<std::vector<Biquad>>& cascades);
+  /// Filter x[0..n): lanes with `square_sum` add their output's squares to square_sum[lane]; lane
+  /// `output_lane` (or none if < 0) writes every second output sample into `decimated` (phase kept across
+  /// calls) and returns how many it wrote.
+  std::size_t process(const double* x, std::size_t n, double* square_sum, int output_lane, double* decimated);
+
+ private:
+  alignas(32) double b0_[kSections][kLanes], b1_[kSections][kLanes], b2_[kSections][kLanes];
+  alignas(32) double a1_[kSections][kLanes], a2_[kSections][kLanes];
+  alignas(32) double s1_[kSections][kLanes] = {}, s2_[kSections][kLanes] = {};
+  alignas(32) double carry_[kSections][kLanes] = {};  // pipeline registers between sections
+  bool keep_next_ = true;
+};
+
 /// Band-pass of prototype order n (filter order 2n) with -3 dB edges f1 < f2 < fs/2, unit gain at f_ref.
 std::vector<Biquad> butterworth_bandpass(int n, double f1, double f2, double f_ref, double fs);
 /// Low-pass of order n (even) with -3 dB cut-off fc < fs/2, unit gain at DC.

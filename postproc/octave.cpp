@@ -74,19 +74,23 @@ double a_weighting_db(double f) {
 
 // ---------------------------------------------------------------------------------------------
 
-// One octave step of the multirate bank: the bands filtered at this rate, and the anti-alias filter that
-// makes the next stage's input.
+// One octave step of the multirate bank: the bands filtered at this rate and the anti-alias filter that
+// makes the next stage's input, packed four cascades to a CascadeLanes4 (one pass over the samples each).
 struct OctaveFilterBank::Stage {
+  struct Group {
+    std::unique_ptr<CascadeLanes4> lanes;
+    std::vector<int> slot;  // lane -> band of this stage (index into band_ids), -1: anti-alias or empty
+    int output_lane = -1;   // the anti-alias lane, if in this group
+  };
   double fs = 0.0;
   std::vector<int> band_ids;
-  std::vector<SosFilter> filters;
+  std::vector<SosFilter> filters;  // the same band-passes, for response()
+  SosFilter anti_alias;            // for response()
+  std::vector<Group> groups;
   std::vector<double> sum_squares;                 // per band of this stage
   std::vector<std::vector<double>> interval_sums;  // per band: per interval
   std::vector<std::int64_t> interval_counts;       // samples per interval (same for all bands of the stage)
-  SosFilter anti_alias;
-  bool keep_next = true;  // decimation phase: keep the next low-passed sample?
   std::int64_t samples = 0;
-  std::vector<double> scratch;
   std::vector<double> next_input;
 };
 
@@ -114,18 +118,38 @@ OctaveFilterBank::OctaveFilterBank(std::vector<Band> bands, double fs, double in
   for (int k = 0; k < stages; ++k) {
     auto stage = std::make_unique<Stage>();
     stage->fs = fs / std::pow(2.0, k);
+    std::vector<std::vector<Biquad>> cascades;
     for (std::size_t i = 0; i < bands_.size(); ++i) {
       if (stage_of[i] != k) continue;
       const Band& band = bands_[i];
       stage->band_ids.push_back(static_cast<int>(i));
-      stage->filters.emplace_back(
+      cascades.push_back(
           butterworth_bandpass(kBandPrototypeOrder, band.lower_hz, band.upper_hz, band.center_hz, stage->fs));
+      stage->filters.emplace_back(cascades.back());
+    }
+    const bool decimate = k + 1 < stages;
+    if (decimate) {
+      cascades.push_back(butterworth_lowpass(kAntiAliasOrder, kAntiAliasCutoff * stage->fs, stage->fs));
+      stage->anti_alias = SosFilter(cascades.back());
+    }
+    for (std::size_t first = 0; first < cascades.size(); first += CascadeLanes4::kLanes) {
+      const std::size_t last = std::min(cascades.size(), first + CascadeLanes4::kLanes);
+      Stage::Group group;
+      group.lanes = std::make_unique<CascadeLanes4>(
+          std::vector<std::vector<Biquad>>(cascades.begin() + static_cast<std::ptrdiff_t>(first),
+                                           cascades.begin() + static_cast<std::ptrdiff_t>(last)));
+      group.slot.assign(CascadeLanes4::kLanes, -1);
+      for (std::size_t c = first; c < last; ++c) {
+        const int lane = static_cast<int>(c - first);
+        if (c < stage->band_ids.size())
+          group.slot[lane] = static_cast<int>(c);
+        else
+          group.output_lane = lane;
+      }
+      stage->groups.push_back(std::move(group));
     }
     stage->sum_squares.assign(stage->band_ids.size(), 0.0);
     stage->interval_sums.resize(stage->band_ids.size());
-    if (k + 1 < stages)
-      stage->anti_alias =
-          SosFilter(butterworth_lowpass(kAntiAliasOrder, kAntiAliasCutoff * stage->fs, stage->fs));
     stages_.push_back(std::move(stage));
   }
 }
@@ -138,60 +162,60 @@ void OctaveFilterBank::push(std::span<const double> samples) {
     Stage& st = *stages_[k];
     const std::size_t n = input.size();
     if (n == 0) break;
-    // Interval boundaries inside this block (sample indices at this stage's rate).
-    std::vector<std::pair<std::size_t, std::size_t>> pieces;  // (begin, interval index)
-    if (interval_s_ > 0.0) {
-      const double per_interval = interval_s_ * st.fs;
-      std::size_t i = 0;
-      while (i < n) {
-        const auto index = static_cast<std::size_t>(std::floor((st.samples + i) / per_interval + 1e-9));
-        const auto next = static_cast<std::int64_t>(std::ceil((index + 1) * per_interval - 1e-9));
-        const std::size_t end =
-            std::min(n, static_cast<std::size_t>(std::max<std::int64_t>(next - st.samples, i + 1)));
-        pieces.emplace_back(i, index);
+    // Pieces of the block inside one Leq interval (one piece without intervals): (begin, interval index).
+    std::vector<std::pair<std::size_t, std::size_t>> pieces;
+    const double per_interval = interval_s_ > 0.0 ? interval_s_ * st.fs : 0.0;
+    for (std::size_t i = 0; i < n;) {
+      std::size_t end = n, index = 0;
+      if (per_interval > 0.0) {
+        index = static_cast<std::size_t>(
+            std::floor(static_cast<double>(st.samples + static_cast<std::int64_t>(i)) / per_interval + 1e-9));
+        const auto next =
+            static_cast<std::int64_t>(std::ceil(static_cast<double>(index + 1) * per_interval - 1e-9));
+        end = std::min(n, static_cast<std::size_t>(
+                              std::max<std::int64_t>(next - st.samples, static_cast<std::int64_t>(i) + 1)));
         if (st.interval_counts.size() <= index) st.interval_counts.resize(index + 1, 0);
         st.interval_counts[index] += static_cast<std::int64_t>(end - i);
-        i = end;
       }
-      pieces.emplace_back(n, 0);
+      pieces.emplace_back(i, index);
+      i = end;
     }
-    for (std::size_t j = 0; j < st.band_ids.size(); ++j) {
-      st.scratch.assign(input.begin(), input.end());
-      st.filters[j].process(st.scratch);
-      double total = 0.0;
-      if (pieces.empty()) {
-        for (double y : st.scratch) total += y * y;
-      } else {
-        auto& sums = st.interval_sums[j];
-        for (std::size_t p = 0; p + 1 < pieces.size(); ++p) {
-          double s = 0.0;
-          for (std::size_t i = pieces[p].first; i < pieces[p + 1].first; ++i)
-            s += st.scratch[i] * st.scratch[i];
-          if (sums.size() <= pieces[p].second) sums.resize(pieces[p].second + 1, 0.0);
-          sums[pieces[p].second] += s;
-          total += s;
+    pieces.emplace_back(n, 0);
+    st.next_input.resize(n / 2 + 1);
+    std::size_t decimated = 0;
+    for (std::size_t p = 0; p + 1 < pieces.size(); ++p) {
+      const std::size_t begin = pieces[p].first, count = pieces[p + 1].first - begin,
+                        index = pieces[p].second;
+      for (Stage::Group& g : st.groups) {
+        double sums[CascadeLanes4::kLanes] = {0.0, 0.0, 0.0, 0.0};
+        decimated += g.lanes->process(input.data() + begin, count, sums, g.output_lane,
+                                      st.next_input.data() + decimated);
+        for (int lane = 0; lane < CascadeLanes4::kLanes; ++lane) {
+          const int slot = g.slot[lane];
+          if (slot < 0) continue;
+          st.sum_squares[slot] += sums[lane];
+          if (per_interval > 0.0) {
+            auto& sums_of_band = st.interval_sums[slot];
+            if (sums_of_band.size() <= index) sums_of_band.resize(index + 1, 0.0);
+            sums_of_band[index] += sums[lane];
+          }
         }
       }
-      st.sum_squares[j] += total;
     }
     st.samples += static_cast<std::int64_t>(n);
     if (k + 1 == stages_.size()) break;
-    // Low-pass and keep every second sample for the next stage.
-    st.anti_alias.process(input);
-    st.next_input.clear();
-    for (double v : input) {
-      if (st.keep_next) st.next_input.push_back(v);
-      st.keep_next = !st.keep_next;
-    }
+    st.next_input.resize(decimated);
     input.swap(st.next_input);
   }
 }
 
 std::vector<double> OctaveFilterBank::mean_square() const {
+  // The first CascadeLanes4::kDelay outputs of a stage are the pipeline filling (zeros): not counted.
   std::vector<double> ms(bands_.size(), 0.0);
   for (const auto& st : stages_)
     for (std::size_t j = 0; j < st->band_ids.size(); ++j)
-      ms[st->band_ids[j]] = st->samples > 0 ? st->sum_squares[j] / static_cast<double>(st->samples) : 0.0;
+      ms[st->band_ids[j]] = st->sum_squares[j] / static_cast<double>(std::max<std::int64_t>(
+                                                     1, st->samples - CascadeLanes4::kDelay));
   return ms;
 }
 
@@ -213,7 +237,8 @@ Eigen::MatrixXd OctaveFilterBank::interval_mean_square() const {
     for (std::size_t j = 0; j < st->band_ids.size(); ++j)
       for (std::size_t i = 0; i < intervals && i < st->interval_sums[j].size(); ++i)
         ms(static_cast<Eigen::Index>(i), st->band_ids[j]) =
-            st->interval_sums[j][i] / static_cast<double>(st->interval_counts[i]);
+            st->interval_sums[j][i] / static_cast<double>(std::max<std::int64_t>(
+                                          1, st->interval_counts[i] - (i == 0 ? CascadeLanes4::kDelay : 0)));
   return ms;
 }
 
