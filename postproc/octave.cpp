@@ -91,7 +91,6 @@ struct OctaveFilterBank::Stage {
   std::vector<std::vector<double>> interval_sums;  // per band: per interval
   std::vector<std::int64_t> interval_counts;       // samples per interval (same for all bands of the stage)
   std::int64_t samples = 0;
-  std::vector<double> next_input;
 };
 
 OctaveFilterBank::OctaveFilterBank(std::vector<Band> bands, double fs, double interval_s,
@@ -157,10 +156,12 @@ OctaveFilterBank::OctaveFilterBank(std::vector<Band> bands, double fs, double in
 OctaveFilterBank::~OctaveFilterBank() = default;
 
 void OctaveFilterBank::push(std::span<const double> samples) {
-  std::vector<double> input(samples.begin(), samples.end());
+  // Stage 0 reads the block itself; each later stage reads the decimated output of the one before, kept in
+  // two buffers of the bank (memory: the block and its half, whatever the signal length).
+  const double* input = samples.data();
+  std::size_t n = samples.size();
   for (std::size_t k = 0; k < stages_.size(); ++k) {
     Stage& st = *stages_[k];
-    const std::size_t n = input.size();
     if (n == 0) break;
     // Pieces of the block inside one Leq interval (one piece without intervals): (begin, interval index).
     std::vector<std::pair<std::size_t, std::size_t>> pieces;
@@ -181,15 +182,15 @@ void OctaveFilterBank::push(std::span<const double> samples) {
       i = end;
     }
     pieces.emplace_back(n, 0);
-    st.next_input.resize(n / 2 + 1);
+    decimated_.resize(n / 2 + 1);
     std::size_t decimated = 0;
     for (std::size_t p = 0; p + 1 < pieces.size(); ++p) {
       const std::size_t begin = pieces[p].first, count = pieces[p + 1].first - begin,
                         index = pieces[p].second;
       for (Stage::Group& g : st.groups) {
         double sums[CascadeLanes4::kLanes] = {0.0, 0.0, 0.0, 0.0};
-        decimated += g.lanes->process(input.data() + begin, count, sums, g.output_lane,
-                                      st.next_input.data() + decimated);
+        decimated +=
+            g.lanes->process(input + begin, count, sums, g.output_lane, decimated_.data() + decimated);
         for (int lane = 0; lane < CascadeLanes4::kLanes; ++lane) {
           const int slot = g.slot[lane];
           if (slot < 0) continue;
@@ -204,8 +205,10 @@ void OctaveFilterBank::push(std::span<const double> samples) {
     }
     st.samples += static_cast<std::int64_t>(n);
     if (k + 1 == stages_.size()) break;
-    st.next_input.resize(decimated);
-    input.swap(st.next_input);
+    decimated_.resize(decimated);
+    stage_input_.swap(decimated_);
+    input = stage_input_.data();
+    n = stage_input_.size();
   }
 }
 

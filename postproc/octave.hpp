@@ -73,6 +73,7 @@ class OctaveFilterBank {
   double fs_;
   double interval_s_;
   std::vector<std::unique_ptr<Stage>> stages_;
+  std::vector<double> stage_input_, decimated_;  // ping-pong buffers between stages
 };
 
 /// Band mean squares from a PSD (unit^2/Hz, energy-correct Welch): sum of PSD_k df over the bins, each
