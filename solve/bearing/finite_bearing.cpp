@@ -1,7 +1,8 @@
 #include "solve/bearing/finite_bearing.hpp"
 
+#include <klu.h>
+
 #include <Eigen/SparseCore>
-#include <Eigen/SparseLU>
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -32,11 +33,53 @@ struct FiniteBearing::Assembly {
   double side_flow = 0;                   // nondimensional
 };
 
+// Sparse LU of the reduced Newton matrix by KLU (Davis and Palamadai Natarajan, ACM TOMS 37 (2010) 36): the
+// fill-reducing ordering (AMD) is computed once per grid; each Newton step refactorizes numerically with the
+// pivot sequence of the last full factorization (klu_refactor) and falls back to a full factorization with
+// partial pivoting when the reciprocal pivot growth or condition estimate says the old pivots went bad.
+class KluLu {
+ public:
+  KluLu() { klu_defaults(&common_); }
+  KluLu(const KluLu&) = delete;
+  KluLu& operator=(const KluLu&) = delete;
+  ~KluLu() {
+    if (numeric_) klu_free_numeric(&numeric_, &common_);
+    if (symbolic_) klu_free_symbolic(&symbolic_, &common_);
+  }
+  void analyze(Eigen::SparseMatrix<double>& a) {
+    symbolic_ = klu_analyze(static_cast<int>(a.rows()), a.outerIndexPtr(), a.innerIndexPtr(), &common_);
+    if (!symbolic_)
+      throw Error("finite bearing: KLU could not analyze the Reynolds matrix (status " +
+                  std::to_string(common_.status) + ")");
+  }
+  /// Numeric factorization of `a` (same pattern as analyzed). False if the matrix is singular.
+  bool factorize(Eigen::SparseMatrix<double>& a) {
+    int* ap = a.outerIndexPtr();
+    int* ai = a.innerIndexPtr();
+    double* ax = a.valuePtr();
+    if (numeric_ && klu_refactor(ap, ai, ax, symbolic_, numeric_, &common_) &&
+        klu_rgrowth(ap, ai, ax, symbolic_, numeric_, &common_) && common_.rgrowth > 1e-8 &&
+        klu_rcond(symbolic_, numeric_, &common_) && common_.rcond > 1e-12)
+      return true;
+    if (numeric_) klu_free_numeric(&numeric_, &common_);
+    numeric_ = klu_factor(ap, ai, ax, symbolic_, &common_);
+    return numeric_ != nullptr && common_.status == KLU_OK;
+  }
+  /// Solves in place: b <- A^-1 b.
+  void solve(Eigen::VectorXd& b) {
+    klu_solve(symbolic_, numeric_, static_cast<int>(b.size()), 1, b.data(), &common_);
+  }
+
+ private:
+  klu_common common_;
+  klu_symbolic* symbolic_ = nullptr;
+  klu_numeric* numeric_ = nullptr;
+};
+
 struct FiniteBearing::Solver {
   Eigen::SparseMatrix<double> A;
   std::vector<int> value_index;  // cell * 5 + slot -> index into A.valuePtr() (-1: absent)
-  Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>> lu;
-  bool analyzed = false;
+  KluLu lu;
 };
 
 FiniteBearing::FiniteBearing(BearingSpec spec, FiniteSolverOptions options)
@@ -80,8 +123,12 @@ FiniteBearing::FiniteBearing(const FiniteBearing& o)
       neighbour_(o.neighbour_),
       has_solution_(o.has_solution_),
       p_ref_of_solution_(o.p_ref_of_solution_),
+      kinematics_of_solution_(o.kinematics_of_solution_),
       P_(o.P_),
-      r_(o.r_) {}
+      r_(o.r_),
+      has_sensitivity_(o.has_sensitivity_),
+      dP_dq_(o.dP_dq_),
+      dr_dq_(o.dr_dq_) {}
 FiniteBearing& FiniteBearing::operator=(const FiniteBearing& o) {
   if (this != &o) *this = FiniteBearing(o);
   return *this;
@@ -151,8 +198,7 @@ void FiniteBearing::build_pattern() {
   for (int v = 0; v < solver_->A.nonZeros(); ++v) {
     solver_->value_index[static_cast<int>(solver_->A.valuePtr()[v]) - 1] = v;
   }
-  solver_->lu.analyzePattern(solver_->A);
-  solver_->analyzed = true;
+  solver_->lu.analyze(solver_->A);
 }
 
 // Nondimensional variables: H = h/c, Z = z/R, P = p / p_ref with p_ref = 12 mu0 R^2 omega_ref / c^2, time
@@ -258,11 +304,19 @@ void FiniteBearing::assemble(const Eigen::VectorXd& P, const Eigen::VectorXd& r,
       if (ss) a.JR[m][kSelf] -= area;
     }
   }
-  // Complementarity p >= 0, r >= 0, p r = 0 as Fischer-Burmeister; kNone keeps r = 0 (Phi = r).
+  // Complementarity p >= 0, r >= 0, p r = 0 as min(p, r) = 0 (the primal-dual active-set form) or as
+  // Fischer-Burmeister; kNone keeps r = 0 (Phi = r).
   a.Phi.resize(n_), a.ap.resize(n_), a.ar.resize(n_);
   for (int m = 0; m < n_; ++m) {
     if (cavitation == Cavitation::kNone || supply_[m]) {
       a.Phi[m] = r[m], a.ap[m] = 0, a.ar[m] = 1;
+      continue;
+    }
+    if (min_complementarity_) {
+      const bool pressurized = P[m] > r[m];
+      a.Phi[m] = pressurized ? r[m] : P[m];
+      a.ap[m] = pressurized ? 0 : 1;
+      a.ar[m] = pressurized ? 1 : 0;
       continue;
     }
     const double norm = std::hypot(P[m], r[m]);
@@ -333,9 +387,9 @@ void FiniteBearing::cold_start() {
   assemble(P_, r_, true, a, /*linear=*/true);
   Eigen::VectorXd rhs;
   reduce(a, rhs);
-  solver_->lu.factorize(solver_->A);
-  if (solver_->lu.info() != Eigen::Success) return;  // keep the zero start
-  const Eigen::VectorXd d = solver_->lu.solve(rhs);
+  if (!solver_->lu.factorize(solver_->A)) return;  // keep the zero start
+  Eigen::VectorXd d = rhs;
+  solver_->lu.solve(d);
   for (int m = 0; m < n_; ++m) {
     if (supply_[m]) continue;
     const double p = P_[m] + d[m];
@@ -351,6 +405,7 @@ FilmResult FiniteBearing::evaluate(const Kinematics& k) {
   if (!has_solution_) {
     cold_start();
   } else {
+    if (has_sensitivity_) predict(k);
     P_ *= p_ref_of_solution_ / p_ref_;  // same dimensional pressures under the new scale
     for (int m = 0; m < n_; ++m)
       if (supply_[m]) P_[m] = supply_p_, r_[m] = 0;
@@ -359,12 +414,19 @@ FilmResult FiniteBearing::evaluate(const Kinematics& k) {
   Eigen::VectorXd rhs, dP(n_), dr(n_);
   int iteration = 0;
   bool converged = false;
+  double last_step = 0;
+  // Active-set (min) Newton first: exact in one step once the cavitated cells are right, because the
+  // discrete equations are linear in (p, r) for a given set (isoviscous). If it has not converged after
+  // kActiveSetIterations, Fischer-Burmeister with line search (globally convergent) takes over.
+  constexpr int kActiveSetIterations = 12;
+  min_complementarity_ = true;
   for (; iteration < options_.max_iterations && !converged; ++iteration) {
+    if (iteration == kActiveSetIterations) min_complementarity_ = false;
     assemble(P_, r_, true, a);
     reduce(a, rhs);
-    solver_->lu.factorize(solver_->A);
-    if (solver_->lu.info() != Eigen::Success) break;
-    const Eigen::VectorXd y = solver_->lu.solve(rhs);
+    if (!solver_->lu.factorize(solver_->A)) break;
+    Eigen::VectorXd y = rhs;
+    solver_->lu.solve(y);
     for (int m = 0; m < n_; ++m) {
       if (supply_[m]) {
         dP[m] = dr[m] = 0;
@@ -381,14 +443,26 @@ FilmResult FiniteBearing::evaluate(const Kinematics& k) {
     const double f0 = merit(a);
     double t = 1;
     Assembly trial;
+    double f1 = f0;
     for (int ls = 0; ls < 30 && step >= options_.tolerance; ++ls) {
       assemble(P_ + t * dP, r_ + t * dr, false, trial);
-      if (merit(trial) <= (1 - 1e-4 * t) * f0 || f0 < 1e-28) break;
+      f1 = merit(trial);
+      // Active-set steps are taken whole (their merit need not decrease while the set is being found).
+      if (min_complementarity_ || f1 <= (1 - 1e-4 * t) * f0 || f0 < 1e-28) break;
       t *= 0.5;
     }
     P_ += t * dP;
     r_ += t * dr;
-    converged = step < options_.tolerance;
+    // Converged when the step is below the tolerance; or when the residual at the new state is at round-off
+    // level (the active-set step was exact); or, in the active-set phase (Newton, quadratic once the set is
+    // right), when a full step shows a contraction step_k <= C step_{k-1}^2 that puts the next step,
+    // C step_k^2, below the tolerance. (Not in the Fischer-Burmeister phase: its convergence near
+    // degenerate cells can be linear.)
+    const double contraction = last_step > 0 ? step / (last_step * last_step) : 1e300;
+    converged = step < options_.tolerance || (t == 1 && std::sqrt(2 * f1) < options_.tolerance * 1e-3) ||
+                (min_complementarity_ && t == 1 && step < 1e-3 && step < 0.1 * last_step &&
+                 contraction * step * step < options_.tolerance);
+    last_step = t == 1 ? step : 0.0;
   }
   if (!converged) {
     has_solution_ = false;
@@ -399,7 +473,9 @@ FilmResult FiniteBearing::evaluate(const Kinematics& k) {
     throw Error(msg.str());
   }
   has_solution_ = true;
+  has_sensitivity_ = false;
   p_ref_of_solution_ = p_ref_;
+  kinematics_of_solution_ = k;
   Assembly final_state;
   assemble(P_, r_, false, final_state);
   FilmResult result = post_process(k, final_state);
@@ -450,6 +526,8 @@ FilmResult FiniteBearing::post_process(const Kinematics& k, const Assembly& a) c
 // d(force)/d(q), q = (ex, ey, ex_dot, ey_dot): J du/dq = -dG/dq with G = (M, Phi); Phi does not depend on q,
 // so the reduced system takes -dM/dq as its right-hand side. Then dF/dq = -sum p_ref dP/dq n dA.
 void FiniteBearing::parameter_jacobian(const Assembly& a, FilmResult& result) {
+  dP_dq_.resize(n_, 4);
+  dr_dq_.resize(n_, 4);
   const double c = spec_.radial_clearance, R = spec_.radius();
   const bool jfo = spec_.cavitation == Cavitation::kJfo;
   auto fluidity = [&](double p) { return barus_ > 0 && p > 0 ? std::exp(-barus_ * p) : 1.0; };
@@ -492,16 +570,33 @@ void FiniteBearing::parameter_jacobian(const Assembly& a, FilmResult& result) {
     }
     Eigen::VectorXd rhs(n_);
     for (int m = 0; m < n_; ++m) rhs[m] = supply_[m] ? 0.0 : -dM[m];
-    const Eigen::VectorXd y = solver_->lu.solve(rhs);
+    Eigen::VectorXd y = rhs;
+    solver_->lu.solve(y);
     Eigen::Vector2d dF = Eigen::Vector2d::Zero();
     for (int m = 0; m < n_; ++m) {
-      if (supply_[m]) continue;
+      if (supply_[m]) {
+        dP_dq_(m, q) = dr_dq_(m, q) = 0;
+        continue;
+      }
+      // Phi does not depend on q: ap dP + ar dr = 0 in every cell.
       const double dP = a.primary_is_p[m] ? y[m] : -a.ar[m] / a.ap[m] * y[m];
+      dP_dq_(m, q) = dP;
+      dr_dq_(m, q) = a.primary_is_p[m] ? -a.ap[m] / a.ar[m] * y[m] : y[m];
       const int i = m % nt_;
       dF -= p_ref_ * dP * R * R * area * Eigen::Vector2d(cos_c_[i], sin_c_[i]);
     }
     result.jacobian.col(q) = dF;
   }
+  has_sensitivity_ = true;
+}
+
+// Tangent predictor: the last solution moved along its sensitivities to the new (e, de/dt), projected onto
+// p >= 0, r >= 0. Exact to first order while the cavitation boundary stays in its cells.
+void FiniteBearing::predict(const Kinematics& k) {
+  Eigen::Vector4d dq;
+  dq << k.e - kinematics_of_solution_.e, k.e_dot - kinematics_of_solution_.e_dot;
+  P_ = (P_ + dP_dq_ * dq).cwiseMax(0.0);
+  r_ = (r_ + dr_dq_ * dq).cwiseMax(0.0);
 }
 
 Eigen::MatrixXd FiniteBearing::pressure() const {

@@ -9,10 +9,16 @@
 //   sum over faces [ -h^3 / (12 mu) dp/dn + U_m h (1 - r)_upwind n_theta ] + (1 - r) dh/dt A = 0
 // The complementarity p >= 0, r >= 0, p r = 0 is written as the Fischer-Burmeister equation
 //   p + r - sqrt(p^2 + r^2) = 0            (Fischer 1992; Woloszynski et al., Tribol. Lett. 58 (2015) 18)
-// and the whole system is solved by a semismooth Newton method with a backtracking line search. Each Newton
-// step eliminates one unknown per cell with the local FB equation (the one with the larger FB derivative),
-// so the linear system has one unknown per cell and the five-point pattern; it is factorized by SparseLU
-// with the ordering computed once per grid.
+// and the whole system is solved by a semismooth Newton method. It starts in the active-set form
+// min(p, r) = 0 (a primal-dual active-set method, Hintermueller, Ito and Kunisch, SIAM J. Optim. 13 (2003)
+// 865): for a given set of cavitated cells the isoviscous equations are linear, so once the set is right one
+// full step is exact. If that has not converged in 12 steps, the Fischer-Burmeister form with a backtracking
+// line search takes over (globally convergent). Each Newton step eliminates one unknown per cell with the
+// local complementarity equation (the one with the larger derivative), so the linear system has one unknown
+// per cell and the five-point pattern; it is factorized by KLU with the ordering computed once per grid and
+// numeric refactorizations that keep the pivot sequence while it stays well conditioned.
+// Stopping: the Newton step below the tolerance, or a residual at round-off level after a full step, or a
+// quadratic contraction that puts the next step below the tolerance.
 //
 // Swift-Stieber: the fill ratio stays 1 and r becomes a local mass source (the mass the Reynolds
 // condition creates in the rupture zone), complementary to p. kNone: p unconstrained, r = 0 (linear).
@@ -26,8 +32,11 @@
 // exact derivative of the discrete solution (up to the Newton tolerance), cheaper and more accurate than
 // finite differences of warm-started solves, which would cost 4-8 nonlinear solves per call.
 //
-// Warm start: the object keeps its last (p, r) and starts the next evaluation from it. It is a plain
-// value type (copying it copies the last solution; the factorization is rebuilt on demand).
+// Warm start: the object keeps its last (p, r) and its sensitivities d(p, r)/d(e, de/dt) (from the Jacobian
+// solves) and starts the next evaluation from the tangent prediction (p, r) + d(p, r)/dq dq, projected onto
+// p, r >= 0. It is a starting guess only: the converged result does not depend on it beyond the tolerance.
+// The object is a plain value type (copying it copies the last solution; the factorization is rebuilt on
+// demand).
 #include <Eigen/Core>
 #include <array>
 #include <memory>
@@ -83,6 +92,7 @@ class FiniteBearing {
   void cold_start();
   FilmResult post_process(const Kinematics& k, const Assembly& a) const;
   void parameter_jacobian(const Assembly& a, FilmResult& result);
+  void predict(const Kinematics& k);
 
   BearingSpec spec_;
   FiniteSolverOptions options_;
@@ -98,8 +108,13 @@ class FiniteBearing {
 
   // State
   bool has_solution_ = false;
+  bool min_complementarity_ = false;  // this Newton iteration: min(p, r) = 0 instead of Fischer-Burmeister
   double p_ref_of_solution_ = 1;
+  Kinematics kinematics_of_solution_;
   Eigen::VectorXd P_, r_;
+  // d(P, r)/d(ex, ey, ex_dot, ey_dot) of the last solution (nondimensional P per SI unit): the predictor.
+  bool has_sensitivity_ = false;
+  Eigen::MatrixXd dP_dq_, dr_dq_;
   std::unique_ptr<Solver> solver_;
 };
 
