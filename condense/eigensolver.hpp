@@ -15,6 +15,7 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 #include <functional>
+#include <memory>
 #include <string>
 
 #include "condense/sparse_cholesky.hpp"
@@ -48,6 +49,9 @@ struct EigenRequest {
   double residual_limit = 1e-6;
   EigenProgress progress;               ///< optional
   Ordering ordering = Ordering::kAuto;  ///< fill-reducing ordering of the factorization
+  /// Optional: a factorization of K itself, K positive definite (a Craig-Bampton interior). Then the
+  /// shift is 0 and nothing is factorized; the caller has used it for its own solves with K.
+  std::shared_ptr<const SparseCholesky> stiffness_factor;
 };
 
 struct EigenResult {

@@ -66,10 +66,12 @@ void apply_supports(FeModel& model, const std::vector<Support>& supports, double
       for (int n = 0; n < static_cast<int>(model.nodes.size()); ++n) {
         const Eigen::Vector3d& x = model.nodes[n];
         bool inside = true;
-        for (int k = 0; k < 3; ++k) inside = inside && x(k) >= b[k] - tolerance && x(k) <= b[3 + k] + tolerance;
+        for (int k = 0; k < 3; ++k)
+          inside = inside && x(k) >= b[k] - tolerance && x(k) <= b[3 + k] + tolerance;
         if (inside && model.master_of[n] == n && !model.inactive_dof[6 * n]) held.push_back(n);
       }
-      if (held.empty()) throw Error("the support box holds no node of the model", sup.where, sup.path + ".box");
+      if (held.empty())
+        throw Error("the support box holds no node of the model", sup.where, sup.path + ".box");
     } else {
       const int n = model.find_node(sup.at, tolerance);
       if (n < 0) {
@@ -100,7 +102,8 @@ void build_transform(FeModel& model) {
     if (model.master_of[n] != n) continue;
     for (int d = 0; d < 6; ++d) {
       const int dof = 6 * n + d;
-      if (!model.supported_dof[dof] && !model.inactive_dof[dof] && !dependent[dof]) free_index[dof] = n_free++;
+      if (!model.supported_dof[dof] && !model.inactive_dof[dof] && !dependent[dof])
+        free_index[dof] = n_free++;
     }
   }
   std::vector<Eigen::Triplet<double>> tt;

@@ -47,7 +47,7 @@ struct FeModel {
   /// Dependent DOF given by linear constraints (distributing couplings); each refers to DOF of master
   /// nodes that are neither dependent nor slaves.
   std::vector<LinearConstraint> constraints;
-  Surface surface;                ///< volume models: the outer surface (node indices are model nodes)
+  Surface surface;                   ///< volume models: the outer surface (node indices are model nodes)
   std::vector<std::int64_t> labels;  ///< volume models: the mesh's node labels (first nodes)
 
   int all_dofs() const { return 6 * static_cast<int>(nodes.size()); }

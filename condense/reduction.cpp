@@ -3,6 +3,7 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <sstream>
 
 #include "common/error.hpp"
@@ -111,21 +112,24 @@ ReducedModel craig_bampton(const ReductionInput& in, bool with_fixed_interface_m
     if (!is_boundary[d]) i_dofs.push_back(d);
   const int nb = static_cast<int>(b.size()), ni = static_cast<int>(i_dofs.size());
 
-  // Constraint modes: K_ii Psi = -K_ib, one factorization, nb right-hand sides.
+  // Constraint modes: K_ii Psi = -K_ib, one factorization, nb right-hand sides. K_ii is positive
+  // definite when the interface restrains the interior, so the fixed-interface eigen-solve runs on the
+  // same factorization (shift 0): one factorization for both.
   const SparseMatrix Kii = submatrix(K, i_dofs, i_dofs);
   const SparseMatrix Kib = submatrix(K, i_dofs, b);
   Eigen::MatrixXd psi(ni, nb);
   FactorStats factor;
+  std::shared_ptr<SparseCholesky> chol;
   if (ni > 0) {
-    SparseCholesky chol(in.ordering);
-    if (!chol.factorize(Kii)) {
+    chol = std::make_shared<SparseCholesky>(in.ordering);
+    if (!chol->factorize(Kii)) {
       throw Error(
           "the interior of the model is not restrained by the interface points and supports (the "
           "stiffness with the interface DOF held is singular): add an interface or a support, or "
           "check that the beam is connected");
     }
-    psi = -chol.solve(Eigen::MatrixXd(Kib));
-    factor = chol.stats();
+    psi = -chol->solve(Eigen::MatrixXd(Kib));
+    factor = chol->stats();
   }
 
   // Fixed-interface modes.
@@ -135,11 +139,14 @@ ReducedModel craig_bampton(const ReductionInput& in, bool with_fixed_interface_m
   double eigen_seconds = 0.0;
   if (with_fixed_interface_modes && ni > 0) {
     const SparseMatrix Mii = submatrix(M, i_dofs, i_dofs);
-    const EigenResult eig = solve_eigenproblem(Kii, Mii, request_for(s, 0, in));
+    EigenRequest request = request_for(s, 0, in);
+    request.stiffness_factor = chol;
+    const EigenResult eig = solve_eigenproblem(Kii, Mii, request);
     if (eig.eigenvalues.size() == 0) {
       EigenRequest first;
       first.backend = in.backend;
       first.modes = 1;
+      first.stiffness_factor = chol;
       const EigenResult one = solve_eigenproblem(Kii, Mii, first);
       throw Error("fmax = " + hz(s.fmax_hz) + " is below the first fixed-interface mode (" +
                       hz(frequency_hz(one.eigenvalues(0))) +
@@ -152,6 +159,7 @@ ReducedModel craig_bampton(const ReductionInput& in, bool with_fixed_interface_m
     factor.add(eig.factor);
     eigen_seconds = eig.iteration_seconds;
   }
+  chol.reset();
   const int nm = static_cast<int>(phi.cols());
 
   ReducedModel r;

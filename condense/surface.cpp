@@ -20,7 +20,8 @@ std::vector<Face> element_faces(const std::string& type) {
   if (type == "C3D4" || type == "C3D10") {
     // Corners 0-3; C3D10 mid-side nodes: 4 (0-1), 5 (1-2), 6 (2-0), 7 (0-3), 8 (1-3), 9 (2-3).
     const bool quadratic = type == "C3D10";
-    std::vector<Face> f = {{{0, 1, 2}, {4, 5, 6}}, {{0, 1, 3}, {4, 8, 7}}, {{1, 2, 3}, {5, 9, 8}}, {{0, 2, 3}, {6, 9, 7}}};
+    std::vector<Face> f = {
+        {{0, 1, 2}, {4, 5, 6}}, {{0, 1, 3}, {4, 8, 7}}, {{1, 2, 3}, {5, 9, 8}}, {{0, 2, 3}, {6, 9, 7}}};
     if (!quadratic)
       for (Face& face : f) face.mids.clear();
     return f;
@@ -28,8 +29,8 @@ std::vector<Face> element_faces(const std::string& type) {
   // Hexahedra: corners 0-7; C3D20 mid-side nodes 8-11 (0-1 1-2 2-3 3-0), 12-15 (4-5 5-6 6-7 7-4),
   // 16-19 (0-4 1-5 2-6 3-7).
   const bool quadratic = type == "C3D20";
-  std::vector<Face> f = {{{0, 1, 2, 3}, {8, 9, 10, 11}},  {{4, 5, 6, 7}, {12, 13, 14, 15}},
-                         {{0, 1, 5, 4}, {8, 17, 12, 16}}, {{1, 2, 6, 5}, {9, 18, 13, 17}},
+  std::vector<Face> f = {{{0, 1, 2, 3}, {8, 9, 10, 11}},   {{4, 5, 6, 7}, {12, 13, 14, 15}},
+                         {{0, 1, 5, 4}, {8, 17, 12, 16}},  {{1, 2, 6, 5}, {9, 18, 13, 17}},
                          {{2, 3, 7, 6}, {10, 19, 14, 18}}, {{3, 0, 4, 7}, {11, 16, 15, 19}}};
   if (!quadratic)
     for (Face& face : f) face.mids.clear();
@@ -43,8 +44,8 @@ std::vector<std::array<int, 3>> split(const std::vector<int>& c, const std::vect
   if (c.size() == 3) return {{c[0], m[0], m[2]}, {m[0], c[1], m[1]}, {m[2], m[1], c[2]}, {m[0], m[1], m[2]}};
   if (m.empty()) return {{c[0], c[1], c[2]}, {c[0], c[2], c[3]}};
   // 8-node quadrilateral: a corner triangle at each corner and the inner quadrilateral of mid-side nodes.
-  return {{c[0], m[0], m[3]}, {m[0], c[1], m[1]}, {m[1], c[2], m[2]}, {m[2], c[3], m[3]},
-          {m[0], m[1], m[2]}, {m[0], m[2], m[3]}};
+  return {{c[0], m[0], m[3]}, {m[0], c[1], m[1]}, {m[1], c[2], m[2]},
+          {m[2], c[3], m[3]}, {m[0], m[1], m[2]}, {m[0], m[2], m[3]}};
 }
 
 }  // namespace

@@ -12,10 +12,10 @@
 namespace nvh::condense {
 
 struct Surface {
-  std::vector<int> nodes;                      ///< mesh node indices on the surface, ascending
-  std::vector<std::array<int, 3>> triangles;   ///< flat sub-triangles, as indices into `nodes`
-  Eigen::MatrixXd normals;                     ///< nodes x 3: outward unit normal (area-weighted)
-  Eigen::VectorXd areas;                       ///< per node: a third of its adjacent sub-triangles' area, m^2
+  std::vector<int> nodes;                     ///< mesh node indices on the surface, ascending
+  std::vector<std::array<int, 3>> triangles;  ///< flat sub-triangles, as indices into `nodes`
+  Eigen::MatrixXd normals;                    ///< nodes x 3: outward unit normal (area-weighted)
+  Eigen::VectorXd areas;                      ///< per node: a third of its adjacent sub-triangles' area, m^2
 };
 
 /// Boundary faces of C3D4/C3D10/C3D8/C3D20 elements (Abaqus node order). Quadratic faces are split

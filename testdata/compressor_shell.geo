@@ -1,46 +1,49 @@
-// Hermetic refrigeration compressor shell (generic): a closed steel can about 0.2 m tall, drawn from
-// 3 mm sheet - a cylinder with two elliptical domes - with 4 spring seats (short studs) standing on the
-// inside of the bottom dome, on which the motor-compressor unit hangs by coil springs.
-// Units: m. Axis: z up, the can's axis on the z axis, bottom dome apex at z = -dome.
-// Physical groups (become node sets SEAT1..SEAT4 and SHELL, usable as interface.surface):
-//   SEAT1..SEAT4: the flat top face of each spring seat; SHELL: the volume.
+// Hermetic refrigeration compressor shell (generic): a closed steel can 0.2 m tall, deep-drawn from 3 mm
+// sheet - a cylinder with two elliptical domes, flattened at both ends - with 4 spring seats (short
+// studs) standing on the flat inside of the bottom, on which the motor-compressor unit hangs by coil
+// springs. Units: m. Axes: z up along the can's axis, origin on the axis at the bottom of the
+// cylindrical part.
+// Physical groups (node sets for the component file): SEAT1..SEAT4, the flat top face of each spring
+// seat; SHELL, the volume.
 SetFactory("OpenCASCADE");
 
-R = 0.080;      // outer radius of the can
-H = 0.110;      // height of the cylindrical part
-dome = 0.045;   // height of each elliptical dome (outer)
-t = 0.003;      // wall thickness (sheet)
-seat_r = 0.050; // radius of the circle of spring seats
-seat_d = 0.016; // spring seat (stud) diameter
-seat_top = -dome + 0.035;  // height of the seat faces (z)
+R = 0.080;       // outer radius of the can
+H = 0.130;       // height of the cylindrical part
+dome = 0.045;    // height of each elliptical dome (outer), before flattening
+flat = 0.035;    // the domes are cut flat this far from the cylinder (outer): total height H + 2 flat
+t = 0.003;       // wall thickness (sheet)
+seat_r = 0.035;  // radius of the circle of spring seats
+seat_d = 0.016;  // spring seat (stud) diameter
+seat_top = -flat + t + 0.020;  // height of the seat faces: 20 mm above the inner bottom
 
-// Outer and inner skins: cylinder + two half-ellipsoids (spheres scaled along z).
-Cylinder(1) = {0, 0, 0, 0, 0, H, R};
-Sphere(2) = {0, 0, H, R};
-Dilate {{0, 0, H}, {1, 1, dome / R}} { Volume{2}; }
-Sphere(3) = {0, 0, 0, R};
-Dilate {{0, 0, 0}, {1, 1, dome / R}} { Volume{3}; }
-outer() = BooleanUnion{ Volume{1}; Delete; }{ Volume{2, 3}; Delete; };
+// A body of revolution: cylinder + two half-ellipsoids (spheres scaled along z), cut flat at both ends.
+// Called for the outer skin (tag 10) and the inner skin (tag 20).
+Macro Can
+  Cylinder(tag + 1) = {0, 0, 0, 0, 0, H, r};
+  Sphere(tag + 2) = {0, 0, H, r};
+  Dilate {{0, 0, H}, {1, 1, d / r}} { Volume{tag + 2}; }
+  Sphere(tag + 3) = {0, 0, 0, r};
+  Dilate {{0, 0, 0}, {1, 1, d / r}} { Volume{tag + 3}; }
+  Box(tag + 4) = {-r, -r, -f, 2 * r, 2 * r, H + 2 * f};
+  body() = BooleanUnion{ Volume{tag + 1}; Delete; }{ Volume{tag + 2, tag + 3}; Delete; };
+  body() = BooleanIntersection{ Volume{body()}; Delete; }{ Volume{tag + 4}; Delete; };
+Return
 
-Ri = R - t;
-di = dome - t;
-Cylinder(11) = {0, 0, 0, 0, 0, H, Ri};
-Sphere(12) = {0, 0, H, Ri};
-Dilate {{0, 0, H}, {1, 1, di / Ri}} { Volume{12}; }
-Sphere(13) = {0, 0, 0, Ri};
-Dilate {{0, 0, 0}, {1, 1, di / Ri}} { Volume{13}; }
-inner() = BooleanUnion{ Volume{11}; Delete; }{ Volume{12, 13}; Delete; };
+tag = 10; r = R; d = dome; f = flat;
+Call Can;
+outer() = body();
+tag = 20; r = R - t; d = dome - t; f = flat - t;
+Call Can;
+inner() = body();
+can() = BooleanDifference{ Volume{outer()}; Delete; }{ Volume{inner()}; Delete; };
 
-
-// Spring seats: studs standing on the inner skin up to seat_top, at 45, 135, 225, 315 degrees; each is
-// cut to the cavity so its foot follows the curved dome exactly.
+// Spring seats at 45, 135, 225, 315 degrees: studs from 0.5 mm inside the bottom plate up to seat_top.
 For i In {0:3}
   a = Pi / 4 + i * Pi / 2;
-  Cylinder(100 + i) = {seat_r * Cos(a), seat_r * Sin(a), -dome, 0, 0, seat_top + dome, seat_d / 2};
+  Cylinder(100 + i) = {seat_r * Cos(a), seat_r * Sin(a), -flat + t - 0.0005, 0, 0, seat_top + flat - t + 0.0005,
+                       seat_d / 2};
 EndFor
-studs() = BooleanIntersection{ Volume{100:103}; Delete; }{ Volume{inner()}; };
-can() = BooleanDifference{ Volume{outer()}; Delete; }{ Volume{inner()}; Delete; };
-shell() = BooleanUnion{ Volume{can()}; Delete; }{ Volume{studs()}; Delete; };
+shell() = BooleanUnion{ Volume{can()}; Delete; }{ Volume{100:103}; Delete; };
 
 For i In {0:3}
   a = Pi / 4 + i * Pi / 2;
@@ -49,9 +52,11 @@ For i In {0:3}
   e = 1e-4;
   top() = Surface In BoundingBox{x - seat_d, y - seat_d, seat_top - e, x + seat_d, y + seat_d, seat_top + e};
   Physical Surface(Sprintf("SEAT%g", i + 1)) = top();
-  // Finer around the stud, whose foot meets the dome at a shallow angle.
-  MeshSize{ Point In BoundingBox{x - seat_d, y - seat_d, -dome - e, x + seat_d, y + seat_d, seat_top + e} } = 0.004;
 EndFor
 Physical Volume("SHELL") = shell();
 
-Mesh.MeshSizeMax = 0.008;
+Mesh.MeshSizeMax = 0.010;
+// Straight-sided quadratic tetrahedra: mid-edge nodes at the edges' midpoints, not moved onto the curved
+// surfaces. Curving them inverted an element where a stud meets the bottom at some sizes; the chord of
+// a 10 mm element on the 80 mm radius misses the surface by 0.16 mm on both skins alike.
+Mesh.SecondOrderLinear = 1;
