@@ -225,7 +225,6 @@ void open_hdf5(const ParsedAddress& a, const std::string& address, SignalInfo& i
   }
   impl.dataset = h5::Handle(H5Dopen2(root.id(), path.c_str(), H5P_DEFAULT));
   if (!impl.dataset.valid()) throw Error(where + ": cannot open the dataset");
-  const std::string dataset_name = path.substr(path.rfind('/') + 1);
   std::string group_path = path.substr(0, path.rfind('/'));
   if (root.has_attribute("unit", path)) info.unit = root.string_attribute("unit", path);
   if (info.unit.empty() && root.has_attribute("units", path))
@@ -276,7 +275,6 @@ void open_hdf5(const ParsedAddress& a, const std::string& address, SignalInfo& i
     throw Error(where +
                 ": no sample rate: expected a 'sample_rate_hz' attribute (> 0) on the dataset or a "
                 "group above it, or a uniformly spaced 'time' dataset beside it");
-  (void)dataset_name;
 }
 
 // CSV: a header row of names (optionally "name [unit]"), comma- or semicolon-separated numbers below.

@@ -104,15 +104,12 @@ void WelchAccumulator::process_segment(const double* segment) {
 
 void WelchAccumulator::push(std::span<const double> samples) {
   const std::size_t n = static_cast<std::size_t>(plan_.size());
-  std::size_t used = 0;
-  // Segments lying wholly inside `samples` (after the pending ones) are processed in place.
+  // Append, transform every complete segment, keep the tail that a later segment starts in.
   pending_.insert(pending_.end(), samples.begin(), samples.end());
   while (pending_.size() - pending_start_ >= n) {
     process_segment(pending_.data() + pending_start_);
     pending_start_ += static_cast<std::size_t>(hop_);
   }
-  (void)used;
-  // Keep only the tail that may start a future segment.
   if (pending_start_ > 0) {
     const std::size_t keep_from = std::min(pending_start_, pending_.size());
     pending_.erase(pending_.begin(), pending_.begin() + static_cast<std::ptrdiff_t>(keep_from));
