@@ -1,5 +1,19 @@
 #pragma once
-// Flexible bodies in a floating frame of reference, from condense's superelements.
+// Flexible bodies in a floating frame of reference, from condense's superelements (docs/scene-flexible.md).
+//
+// Coordinates: q = [r (3), p (4 Euler parameters), eta (n modal coordinates)], w = [v (3, global), omega (3,
+// body axes), eta' (n)]. r and p place the superelement's own (component) frame; a material point at x in
+// that frame is displaced elastically by u = S(x) eta, so it sits at r + A(p) (x + S(x) eta) in global axes.
+//
+// Equations of motion (A. A. Shabana, Dynamics of Multibody Systems, 3rd ed., Cambridge 2005, sec. 5.5,
+// eq. 5.99-5.115, written in the quasi-velocities w): with s = x + S eta and J_P = [I, -A s~, A S] the
+// Jacobian of a material point's velocity,
+//   M(eta) w' + h(eta, w) = Q_gravity + Q_forces - [0; 0; K eta + D eta'],
+//   M = int rho J_P^T J_P dV,   h = int rho J_P^T A (omega x (omega x s) + 2 omega x S eta') dV,
+// and every integral is a combination of the superelement's inertia invariants (see flexible_body.cpp).
+// "linear" coupling drops the quadratic invariants S_kl everywhere except in the modal mass (Adams/Flex'
+// "partial coupling"): the body's inertia and the rotational coupling then follow eta to first order only.
+#include <array>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -10,10 +24,96 @@
 
 namespace nvh::solve {
 
+/// A superelement as a flexible body uses it: the selected elastic coordinates (the rigid-body content of
+/// raw Craig-Bampton / Guyan bases already removed) and the inertia invariants in that basis. SI units.
+struct FlexibleData {
+  std::filesystem::path file;
+  double mass = 0;                                         // kg
+  Vec3 first_moment = Vec3::Zero();                        // m c = int rho x dV, kg m (component frame)
+  Mat3 second_moment = Mat3::Zero();                       // int rho x x^T dV about the origin, kg m^2
+  Eigen::MatrixXd modal_mass, stiffness, damping;          // n x n: int rho S^T S dV, K, D
+  Eigen::Matrix<double, 3, Eigen::Dynamic> translational;  // S_bar = int rho S dV (3 x n)
+  std::array<Eigen::VectorXd, 9> position;                 // I_tilde_kl = int rho x_k S_l dV, [3 k + l] (n)
+  std::array<Eigen::MatrixXd, 9> quadratic;                // S_kl = int rho S_k^T S_l dV, [3 k + l] (n x n)
+  Eigen::VectorXd frequency_hz;                            // of the selected coordinates (information)
+  struct Point {
+    std::string name;
+    Vec3 position = Vec3::Zero();                          // u0, m, component frame
+    Eigen::Matrix<double, 3, Eigen::Dynamic> translation;  // Phi_t, m per unit eta (3 x n)
+    Eigen::Matrix<double, 3, Eigen::Dynamic> rotation;     // Phi_r, rad per unit eta (3 x n)
+  };
+  std::vector<Point> points;  // interface points, then observation points
+  int size() const { return static_cast<int>(modal_mass.rows()); }
+};
+
+/// Load a superelement file and select its lowest `modes` elastic coordinates (all if modes <= 0).
+/// Raw Craig-Bampton and Guyan bases (orthonormalized = 0) are first transformed to the elastic modes of
+/// (K_r, M_r), dropping the rigid-body modes they contain. Throws nvh::Error naming the file.
+FlexibleData load_flexible_data(const std::filesystem::path& file, int modes = 0);
+
+enum class Coupling { kFull, kLinear };
+
+class FlexibleBody final : public Body {
+ public:
+  /// `point_of_user_marker[k]` is the point (index into data.points) of the k-th marker added after
+  /// construction (the scene's [[body.marker]] tables, in order); the points' own markers come first.
+  FlexibleBody(std::string name, FlexibleData data, Coupling coupling, InitialState init,
+               Eigen::VectorXd eta0, Eigen::VectorXd eta_rate0, std::vector<int> point_of_user_marker = {});
+
+  std::string kind() const override { return "flexible"; }
+  int position_count() const override { return 7 + n_; }
+  int velocity_count() const override { return 6 + n_; }
+  Eigen::VectorXd initial_positions() const override;
+  Eigen::VectorXd initial_velocities() const override;
+  void kinematic_residual(std::span<const double> q, std::span<const double> qdot,
+                          std::span<const double> w_eff, std::span<const double> alg, std::span<double> rows,
+                          std::span<double> alg_rows) const override;
+  Eigen::VectorXd position_rates(std::span<const double> q, std::span<const double> w) const override;
+  void inertia_residual(std::span<const double> q, std::span<const double> w, std::span<const double> wdot,
+                        const Vec3& gravity, std::span<double> rows) const override;
+  Eigen::MatrixXd mass_matrix(std::span<const double> q) const override;
+  MarkerMotion marker_motion(int marker, std::span<const double> q, std::span<const double> w) const override;
+  MarkerJacobian marker_jacobian(int marker, std::span<const double> q) const override;
+  Vec3 reference_position(std::span<const double> q) const override;
+  Mat3 rotation(std::span<const double> q) const override;
+  double kinetic_energy(std::span<const double> q, std::span<const double> w) const override;
+
+  const FlexibleData& data() const { return data_; }
+  Coupling coupling() const { return coupling_; }
+  int modes() const { return n_; }
+  /// Strain energy 1/2 eta^T K eta (J).
+  double strain_energy(std::span<const double> q) const;
+  /// Centre of mass of the deformed body (global, m): r + A (m c + S_bar eta) / m.
+  Vec3 center_of_mass(std::span<const double> q) const;
+  /// Linear momentum (kg m/s) and angular momentum about the global origin (kg m^2/s), global axes.
+  void momentum(std::span<const double> q, std::span<const double> w, Vec3& linear, Vec3& angular) const;
+
+  static constexpr double kNormalizationRate = 100.0;  // beta, 1/s (as RigidBody)
+
+ private:
+  /// The eta-dependent inertia terms: Psi = int rho s s^T dV, P[a][b] = int rho s_a S_b dV (n).
+  struct Inertia {
+    Mat3 psi;
+    std::array<Eigen::VectorXd, 9> p;
+    Mat3 inertia() const { return psi.trace() * Mat3::Identity() - psi; }  // J = int rho s~^T s~ dV
+    Eigen::Matrix<double, 3, Eigen::Dynamic> rotational() const;           // int rho s~ S dV (3 x n)
+  };
+  Inertia inertia_terms(const Eigen::Ref<const Eigen::VectorXd>& eta) const;
+  int point_of(int marker) const;
+
+  FlexibleData data_;
+  Coupling coupling_;
+  InitialState init_;
+  Eigen::VectorXd eta0_, eta_rate0_;
+  int n_;
+  int builtin_markers_;
+  std::vector<int> user_points_;
+};
+
 /// Build a flexible body from a scene's [[body]] table with type = "flexible" (keys read from `t`; the
 /// caller calls t.finish()). `base` is the scene's folder; the superelement file is appended to `inputs`.
-std::unique_ptr<Body> make_flexible_body(const input::Table& t, const std::string& name, const InitialState& init,
-                                         const std::filesystem::path& base,
+std::unique_ptr<Body> make_flexible_body(const input::Table& t, const std::string& name,
+                                         const InitialState& init, const std::filesystem::path& base,
                                          std::vector<std::filesystem::path>& inputs);
 
 }  // namespace nvh::solve
