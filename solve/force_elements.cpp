@@ -143,4 +143,11 @@ void TableLoad::channels(const ForceContext& c, const MarkerMotion&, const Marke
   out[0] = magnitude(c);
 }
 
+ElementForce HarmonicLoad::evaluate(const ForceContext& c, const MarkerMotion& i, const MarkerMotion&) const {
+  const Vec3 dir = p_.marker_axes ? Vec3(i.axes * p_.direction) : p_.direction;
+  const Vec3 v = p_.amplitude * std::sin(2 * std::numbers::pi * p_.frequency_hz * c.time + p_.phase_rad) * dir;
+  if (p_.torque) return {Vec3::Zero(), v, i.position};
+  return {v, Vec3::Zero(), i.position};
+}
+
 }  // namespace nvh::solve

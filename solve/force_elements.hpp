@@ -138,4 +138,22 @@ class TableLoad final : public ForceElement {
   Parameters p_;
 };
 
+/// A harmonic load on one marker: amplitude * sin(2 pi f t + phase) along a fixed direction (global, or the
+/// marker's axes); a force (N) or a torque (N m). For frequency responses and verification.
+class HarmonicLoad final : public ForceElement {
+ public:
+  struct Parameters {
+    bool torque = false;
+    Vec3 direction = Vec3::UnitZ();
+    bool marker_axes = false;
+    double amplitude = 0, frequency_hz = 0, phase_rad = 0;
+  };
+  explicit HarmonicLoad(Parameters p) : p_(p) {}
+  std::string type() const override { return p_.torque ? "harmonic-torque" : "harmonic-force"; }
+  ElementForce evaluate(const ForceContext& c, const MarkerMotion& i, const MarkerMotion& j) const override;
+
+ private:
+  Parameters p_;
+};
+
 }  // namespace nvh::solve

@@ -11,6 +11,7 @@
 #include <Eigen/SparseLU>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 #include "common/error.hpp"
@@ -45,8 +46,10 @@ class GeneralizedAlpha final : public Integrator {
 
   double advance(double t_target, double t_stop) override {
     const auto start = Clock::now();
-    while (t_ < t_target - 1e-14 * std::max(1.0, std::abs(t_))) {
-      double h = std::min(h_, t_stop - t_);
+    while (t_ < t_target && t_ < t_stop) {
+      double h = h_;
+      const bool landing = t_ + 1.001 * h >= t_stop;  // land on t_stop exactly, no sliver step
+      if (landing) h = t_stop - t_;
       int halvings = 0;
       while (!try_step(h)) {
         ++stats_.rejected_steps;
@@ -55,6 +58,7 @@ class GeneralizedAlpha final : public Integrator {
         h_ = h;
         jacobian_fresh_ = false;
       }
+      if (landing) t_ = t_stop;
       ++stats_.steps;
       stats_.last_step = h;
       if (s_.adaptive && h_ < s_.step && ++good_steps_ >= 4) {  // grow back towards the nominal step

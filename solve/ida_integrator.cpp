@@ -60,7 +60,10 @@ class IdaIntegrator final : public Integrator {
     N_VDestroy(id);
     check(IDASetSuppressAlg(mem_, SUNTRUE), "IDASetSuppressAlg");
     if (s.max_step > 0) check(IDASetMaxStep(mem_, s.max_step), "IDASetMaxStep");
-    if (s.initial_step > 0) check(IDASetInitStep(mem_, s.initial_step), "IDASetInitStep");
+    // IDA's own first-step estimate can be tiny on index-2 constraints, where Newton's matrix is conditioned
+    // as 1/h^2: start at 1 us unless told otherwise (the error test shortens it if needed).
+    const double h0 = s.initial_step > 0 ? s.initial_step : (model.constraint_equations() > 0 ? 1e-6 : 0.0);
+    if (h0 > 0) check(IDASetInitStep(mem_, h0), "IDASetInitStep");
     check(IDASetMaxOrd(mem_, s.max_order), "IDASetMaxOrd");
     check(IDASetMaxNumSteps(mem_, 100000000L), "IDASetMaxNumSteps");
     const auto& p = jacobian_.pattern();

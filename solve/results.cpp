@@ -81,7 +81,7 @@ ResultsWriter ResultsWriter::create(const std::filesystem::path& path, const Sce
       auto ds = sig.columns == 0 ? root.create_appendable_vector(sig.path) : root.create_appendable(sig.path, sig.columns);
       root.set_attribute("unit", sig.unit, sig.path);
     }
-    root.set_attribute("axes", "global", "markers");
+    if (!scene.marker_names.empty()) root.set_attribute("axes", "global", "markers");
     h5::Group cp = root.create_group("checkpoint");
     cp.create_appendable_vector("time");
     cp.create_appendable_vector("samples");

@@ -4,7 +4,7 @@
 // References: A. A. Shabana, Dynamics of Multibody Systems, 4th ed., Cambridge 2020, section 7.4;
 // P. E. Nikravesh, Computer-Aided Analysis of Mechanical Systems, Prentice Hall 1988, chapter 6.
 //   A(p) = (2 e0^2 - 1) I + 2 (e e^T + e0 e~)          rotation matrix, body -> global   (Nikravesh 6.19)
-//   G(p) = [-e, -e~ + e0 I],  L(p) = [-e,  e~ + e0 I]   (3 x 4)                           (Nikravesh 6.37)
+//   G(p) = [-e,  e~ + e0 I],  L(p) = [-e, -e~ + e0 I]   (3 x 4)                           (Nikravesh 6.37)
 //   omega_global = 2 G p',  omega_body = 2 L p',  p' = 1/2 L^T omega_body  when p^T p = 1
 #include <Eigen/Dense>
 
@@ -33,7 +33,7 @@ inline Mat3 rotation_matrix(const Vec4& p) {
 inline Mat34 l_matrix(const Vec4& p) {
   Mat34 l;
   l.col(0) = -p.tail<3>();
-  l.rightCols<3>() = skew(p.tail<3>()) + p[0] * Mat3::Identity();
+  l.rightCols<3>() = -skew(p.tail<3>()) + p[0] * Mat3::Identity();
   return l;
 }
 

@@ -72,9 +72,9 @@ RunSummary run_scene(Scene& scene, const RunOptions& options, const Provenance& 
     bool done = false;
     while (!done) {
       const double target = sample_time(k);
-      if (target > t_end * (1 + 1e-12) + 1e-15) break;
+      if (target > t_end + 1e-9 * dt) break;
       const double t = integrator->advance(target, t_end);
-      while (!done && sample_time(k) <= t * (1 + 1e-14) + 1e-15 && sample_time(k) <= t_end * (1 + 1e-12) + 1e-15) {
+      while (!done && sample_time(k) <= t + 1e-9 * dt && sample_time(k) <= t_end + 1e-9 * dt) {
         integrator->interpolate(std::min(sample_time(k), t), ys, yps);
         if (by_angle && model.crank_angle(ys.data()) - angle_origin > end_angle + 1e-12) {
           done = true;

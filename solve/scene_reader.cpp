@@ -316,6 +316,14 @@ void SceneReader::read_load(const Table& t) {
   if (p.direction.norm() < 1e-12) t.fail("direction", "the direction must not be zero");
   p.direction.normalize();
   p.marker_axes = t.optional_choice("axes", {"global", "marker"}).value_or("global") == "marker";
+  if (t.has("amplitude") || t.has("frequency_hz")) {  // harmonic
+    HarmonicLoad::Parameters h{p.torque, p.direction, p.marker_axes, t.number("amplitude"),
+                               t.number("frequency_hz", Range::non_negative()),
+                               t.number_or("phase_deg", 0.0) * kPi / 180.0};
+    t.finish();
+    s_.model.forces.push_back({name, std::make_unique<HarmonicLoad>(h), at, std::nullopt});
+    return;
+  }
   const std::string abscissa = t.optional_choice("abscissa", {"time", "crank-angle"}).value_or("time");
   p.abscissa = abscissa == "time" ? TableLoad::Abscissa::kTime : TableLoad::Abscissa::kCrankAngle;
   p.scale = t.number_or("scale", 1.0);
