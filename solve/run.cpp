@@ -76,7 +76,7 @@ RunSummary run_scene(Scene& scene, const RunOptions& options, const Provenance& 
       const double t = integrator->advance(target, t_end);
       while (!done && sample_time(k) <= t + 1e-9 * dt && sample_time(k) <= t_end + 1e-9 * dt) {
         integrator->interpolate(std::min(sample_time(k), t), ys, yps);
-        if (by_angle && model.crank_angle(ys.data()) - angle_origin > end_angle + 1e-12) {
+        if (by_angle && model.crank_angle(ys.data()) - angle_origin > end_angle * (1 + 1e-9)) {
           done = true;
           break;
         }
