@@ -40,17 +40,6 @@ Eigen::Map<const Eigen::VectorXd> tail(std::span<const double> s, int from, int 
   return Eigen::Map<const Eigen::VectorXd>(s.data() + from, n);
 }
 
-/// The body-axis kinematic matrix of Euler parameters: omega_body = 2 Lb p', p' = 1/2 Lb^T omega_body for
-/// |p| = 1, with Lb = [-e, -e~ + e0 1] (Haug 1989, eq. 6.3.21; Nikravesh 1988, eq. 6.37 calls it L). Checked
-/// against A^T A' by finite differences. NOTE: solve/rotation.hpp's l_matrix ([-e, e~ + e0 1]) gives the
-/// GLOBAL angular velocity (Ad A^T), not the body one; it is not used here (reported to the lead).
-Mat34 body_l_matrix(const Vec4& p) {
-  Mat34 l;
-  l.col(0) = -p.tail<3>();
-  l.rightCols<3>() = -skew(p.tail<3>()) + p[0] * Mat3::Identity();
-  return l;
-}
-
 /// exp(theta~): the rotation by the vector theta (Rodrigues).
 Mat3 rotation_of(const Vec3& theta) {
   const double a = theta.norm();
@@ -179,14 +168,14 @@ void FlexibleBody::kinematic_residual(std::span<const double> q, std::span<const
   const Vec4 p = vec4(q, 3);
   Eigen::Map<Vec3>(rows.data()) = vec3(qdot, 0) - vec3(w_eff, 0);
   // Stabilized Euler-parameter kinematics, as RigidBody (body.hpp).
-  Eigen::Map<Vec4>(rows.data() + 3) = vec4(qdot, 3) - 0.5 * body_l_matrix(p).transpose() * vec3(w_eff, 3) +
+  Eigen::Map<Vec4>(rows.data() + 3) = vec4(qdot, 3) - 0.5 * l_matrix(p).transpose() * vec3(w_eff, 3) +
                                       kNormalizationRate * (p.squaredNorm() - 1.0) * p;
   Eigen::Map<Eigen::VectorXd>(rows.data() + 7, n_) = tail(qdot, 7, n_) - tail(w_eff, 6, n_);
 }
 
 Eigen::VectorXd FlexibleBody::position_rates(std::span<const double> q, std::span<const double> w) const {
   Eigen::VectorXd qd(7 + n_);
-  qd << vec3(w, 0), 0.5 * body_l_matrix(vec4(q, 3)).transpose() * vec3(w, 3), tail(w, 6, n_);
+  qd << vec3(w, 0), 0.5 * l_matrix(vec4(q, 3)).transpose() * vec3(w, 3), tail(w, 6, n_);
   return qd;
 }
 
