@@ -89,7 +89,8 @@ struct NamedPoint {
   std::optional<std::array<double, 6>> box;  ///< ... the nodes inside a box, m; or ...
   std::optional<CylinderSelector> cylinder;  ///< ... the nodes on a cylinder band (a bore)
   bool distributing = false;                 ///< RBE3 (weighted average, no stiffness) instead of RBE2
-  double max_distance = 0.0;  ///< m; 0: the point may lie at most the surface's size from its surface
+  double max_distance = 0.0;      ///< m; 0: the point may lie at most the surface's size from its surface
+  SourceLocation selector_where;  ///< of its surface, box or cylinder key, for messages
 };
 
 enum class ReductionMethod { kModal, kCraigBampton, kGuyan };

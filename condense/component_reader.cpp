@@ -179,6 +179,7 @@ void read_coupling(const Table& pt, NamedPoint& p) {
         "a volume interface couples to a surface: give surface = \"NSET name\", box = [...] or "
         "cylinder = {...}, one of them");
   }
+  p.selector_where = pt.location(surface ? "surface" : p.box ? "box" : "cylinder");
   p.distributing = pt.optional_choice("coupling", {"rbe2", "rbe3"}).value_or("rbe2") == "rbe3";
   p.max_distance = pt.number_or("max_distance", 0.0, Range::positive());
 }

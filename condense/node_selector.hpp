@@ -29,10 +29,13 @@ struct NodeSelector {
 /// Geometric bounds are widened by this (m), so nodes exactly on a bound are taken despite round-off.
 inline constexpr double kSelectorTolerance = 1e-6;
 
-/// Indices (ascending) of the mesh nodes that an element uses (`used[n]`) and the selector takes.
+/// Indices (ascending) of the candidate mesh nodes (`candidates[n]`) that the selector takes. The
+/// caller passes the nodes of elements for node sets and boxes, and the nodes of the outer surface for
+/// cylinders (a band of radii inside a solid would also catch interior nodes).
 /// nvh::Error located at the entry, key path + "." + key(), for an unknown node set (listing the mesh's
 /// sets) and for a selector that catches no node (saying where the nearest node lies).
-std::vector<int> select_nodes(const Mesh& mesh, const std::vector<bool>& used, const NodeSelector& selector);
+std::vector<int> select_nodes(const Mesh& mesh, const std::vector<bool>& candidates,
+                              const NodeSelector& selector);
 
 /// Distance (m) of point x from the cylinder's axis and its axial coordinate (see CylinderSelector).
 std::array<double, 2> cylinder_coordinates(const CylinderSelector& cylinder, const Eigen::Vector3d& x);

@@ -50,6 +50,7 @@ void check_reach(const FeModel& model, const NamedPoint& p, const std::vector<in
 /// adds no mass of its own; its rotations get inertia through the slaves, so a surface needs at least
 /// three nodes that are not on one line.
 std::vector<std::vector<int>> add_couplings(FeModel& model, const Mesh& mesh, const std::vector<bool>& used,
+                                            const std::vector<bool>& on_surface,
                                             const std::vector<NamedPoint>& interfaces, int first_coupling) {
   std::vector<std::vector<int>> surfaces;
   std::vector<int> coupled_by(model.nodes.size(), -1);
@@ -58,7 +59,7 @@ std::vector<std::vector<int>> add_couplings(FeModel& model, const Mesh& mesh, co
     const int master = first_coupling + static_cast<int>(i);
     NodeSelector selector{p.surface, p.box,  p.cylinder,
                           p.where,   p.path, "the coupling of interface \"" + p.name + "\""};
-    const std::vector<int> surface = select_nodes(mesh, used, selector);
+    const std::vector<int> surface = select_nodes(mesh, p.cylinder ? on_surface : used, selector);
     check_reach(model, p, surface, selector.key());
     // At least three nodes not on one line, or the coupling's rotations would have no stiffness.
     Eigen::MatrixXd centred(3, surface.size());
@@ -145,9 +146,10 @@ void add_distributing_constraints(FeModel& model, const std::vector<NamedPoint>&
 }
 
 /// Supports: a box takes every node inside (mesh nodes and interface points, see apply_supports); a node
-/// set or a cylinder takes mesh nodes. Nodes that follow a rigid coupling are held through its point.
+/// set takes mesh nodes, a cylinder nodes of the outer surface. Nodes that follow a rigid coupling are
+/// held through its point.
 void apply_volume_supports(FeModel& model, const Mesh& mesh, const std::vector<bool>& used,
-                           const Component& c) {
+                           const std::vector<bool>& on_surface, const Component& c) {
   std::vector<Support> boxes;
   for (const Support& s : c.supports)
     if (s.box) boxes.push_back(s);
@@ -157,7 +159,7 @@ void apply_volume_supports(FeModel& model, const Mesh& mesh, const std::vector<b
     const NodeSelector selector{s.surface, std::nullopt, s.cylinder,
                                 s.where,   s.path,       "the support " + s.path};
     int held = 0;
-    for (int n : select_nodes(mesh, used, selector)) {
+    for (int n : select_nodes(mesh, s.cylinder ? on_surface : used, selector)) {
       if (model.master_of[n] != n) continue;
       ++held;
       for (int d = 0; d < 6; ++d)
@@ -278,10 +280,13 @@ FeModel build_volume_model(const Component& c, const Mesh& mesh) {
   for (int a = 0; a < 3; ++a)
     for (int b = 0; b < 3; ++b) model.component_mass_all[a][b] = assemble(ct[a][b]);
 
-  const std::vector<std::vector<int>> surfaces = add_couplings(model, mesh, used, c.interfaces, mesh_nodes);
-  apply_volume_supports(model, mesh, used, c);
-  add_distributing_constraints(model, c.interfaces, surfaces);
   model.surface = extract_surface(mesh);
+  std::vector<bool> on_surface(mesh_nodes, false);
+  for (int n : model.surface.nodes) on_surface[n] = true;
+  const std::vector<std::vector<int>> surfaces =
+      add_couplings(model, mesh, used, on_surface, c.interfaces, mesh_nodes);
+  apply_volume_supports(model, mesh, used, on_surface, c);
+  add_distributing_constraints(model, c.interfaces, surfaces);
   model.labels = mesh.node_ids;
   build_transform(model);
   return model;
