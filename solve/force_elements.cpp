@@ -82,7 +82,7 @@ ContactState contact_state(const MarkerMotion& i, const MarkerMotion& j, double 
   // velocity of i's point relative to the material point of j beneath it
   const Vec3 vrel = i.velocity - j.velocity - j.angular_velocity.cross(d);
   const double vn = n.dot(vrel);
-  return {clearance - n.dot(d), -vn, n, vrel - vn * n};
+  return {-(clearance + n.dot(d)), -vn, n, vrel - vn * n};
 }
 }  // namespace
 

@@ -57,8 +57,9 @@ class TorsionalSpringDamper final : public ForceElement {
   double k_, d_, phi0_;
 };
 
-/// Unilateral contact of marker i's origin against the plane through marker j normal to z_j, with clearance:
-/// penetration delta = clearance - z_j . (p_i - p_j) (> 0 in contact). Normal force (Hunt & Crossley, J. Appl.
+/// Unilateral contact of marker i's origin against the plane through marker j normal to z_j (pointing out of j's
+/// material), with clearance: gap = z_j . (p_i - p_j) + clearance, penetration delta = -gap (> 0 in contact).
+/// With the markers at the nominal (line-to-line) geometry, `clearance` is the free play. Normal force (Hunt & Crossley, J. Appl.
 /// Mech. 42, 1975, eq. 5):  fn = k delta^n (1 + alpha delta'),  alpha = 3 (1 - e) / (2 v_ref),
 /// never pulling (fn >= 0). Regularized Coulomb friction in the plane: ft = -mu(|vt|) fn vt/|vt| with
 /// mu = mu_d + (mu_s - mu_d) exp(-(|vt|/v_s)^2) times tanh(|vt|/v_eps) (a smooth stick-slip law).

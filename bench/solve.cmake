@@ -1,0 +1,2 @@
+add_executable(bench_solve_work_precision ${CMAKE_CURRENT_SOURCE_DIR}/solve_work_precision.cpp)
+target_link_libraries(bench_solve_work_precision PRIVATE nvh_solve nvh_warnings)

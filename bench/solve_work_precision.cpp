@@ -1,0 +1,105 @@
+// Work-precision of solve's integrators: error against a reference run (IDA at rtol 1e-12) versus CPU time,
+// for IDA over tolerances and generalized-alpha over steps, on one scene. Prints a table and writes CSV.
+//
+//   bench_solve_work_precision SCENE SIGNAL COLUMN OUT.csv
+//   e.g. bench_solve_work_precision testdata/scenes/piston_slap.toml markers/piston.pin/position 0 wp.csv
+// The error is max |s - s_ref| over the samples divided by max |s_ref - mean(s_ref)|.
+#include <ctime>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <sstream>
+
+#include "common/hdf5.hpp"
+#include "common/log.hpp"
+#include "solve/run.hpp"
+#include "solve/scene.hpp"
+
+using namespace nvh;
+using namespace nvh::solve;
+
+namespace {
+
+struct Outcome {
+  double cpu_s = 0;
+  long steps = 0;
+  Eigen::VectorXd signal;
+  bool ok = true;
+};
+
+Outcome run(const std::filesystem::path& scene_file, const IntegratorSettings& settings, const std::string& signal,
+            int column) {
+  Scene scene = read_scene(scene_file);
+  scene.integrator = settings;
+  std::ostringstream sink;
+  const Logger log(sink, "bench", Verbosity::kQuiet);
+  RunOptions options;
+  options.output = std::filesystem::temp_directory_path() / ("wp_" + std::to_string(::getpid()) + ".h5");
+  options.progress = Progress::Style::kNone;
+  Outcome o;
+  const std::clock_t start = std::clock();
+  try {
+    const RunSummary s = run_scene(scene, options, make_provenance("bench", 0, nullptr, {}), log);
+    o.steps = s.statistics.steps;
+  } catch (const std::exception& e) {
+    o.ok = false;
+  }
+  o.cpu_s = double(std::clock() - start) / CLOCKS_PER_SEC;
+  if (o.ok) {
+    const h5::File f = h5::File::open_read(options.output);
+    o.signal = f.root().read_matrix(signal).col(column);
+  }
+  std::filesystem::remove(options.output);
+  return o;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc != 5) {
+    std::cerr << "usage: bench_solve_work_precision SCENE SIGNAL COLUMN OUT.csv\n";
+    return 2;
+  }
+  const std::filesystem::path scene = argv[1];
+  const std::string signal = argv[2];
+  const int column = std::stoi(argv[3]);
+  const Scene base = read_scene(scene);
+  IntegratorSettings ref = base.integrator;
+  ref.method = "ida";
+  ref.rtol = 1e-12;
+  ref.atol = 1e-14;
+  ref.max_step = base.integrator.max_step;
+  const Outcome reference = run(scene, ref, signal, column);
+  const double scale = (reference.signal.array() - reference.signal.mean()).abs().maxCoeff();
+  std::ofstream csv(argv[4]);
+  csv << "method,setting,cpu_s,steps,error\n";
+  std::cout << "scene " << scene << ", signal " << signal << "[" << column << "], reference IDA rtol 1e-12: "
+            << reference.cpu_s << " s CPU\n";
+  std::cout << std::setw(20) << "method" << std::setw(12) << "setting" << std::setw(12) << "CPU s" << std::setw(10)
+            << "steps" << std::setw(14) << "error\n";
+  auto report = [&](const std::string& method, double setting, const Outcome& o) {
+    const double err = o.ok && o.signal.size() == reference.signal.size()
+                           ? (o.signal - reference.signal).cwiseAbs().maxCoeff() / scale
+                           : std::numeric_limits<double>::quiet_NaN();
+    std::cout << std::setw(20) << method << std::setw(12) << setting << std::setw(12) << o.cpu_s << std::setw(10)
+              << o.steps << std::setw(14) << err << (o.ok ? "" : "  (failed)") << "\n";
+    csv << method << "," << setting << "," << o.cpu_s << "," << o.steps << "," << err << "\n";
+  };
+  for (double tol : {1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10}) {
+    IntegratorSettings s = base.integrator;
+    s.method = "ida";
+    s.rtol = tol;
+    s.atol = tol * 1e-2;
+    report("ida", tol, run(scene, s, signal, column));
+  }
+  for (double step : {1e-4, 5e-5, 2e-5, 1e-5, 5e-6}) {
+    IntegratorSettings s = base.integrator;
+    s.method = "generalized-alpha";
+    s.step = step;
+    s.rtol = 1e-8;
+    s.atol = 1e-10;
+    s.adaptive = true;
+    report("generalized-alpha", step, run(scene, s, signal, column));
+  }
+  return 0;
+}
