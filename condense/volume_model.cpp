@@ -11,6 +11,7 @@
 
 #include "common/error.hpp"
 #include "condense/abaqus_mesh.hpp"
+#include "condense/block_assembly.hpp"
 #include "condense/gmsh_mesh.hpp"
 #include "condense/node_selector.hpp"
 #include "condense/solid_element.hpp"
@@ -225,8 +226,20 @@ FeModel build_volume_model(const Component& c, const Mesh& mesh) {
   // Solid nodes move by translations only; nodes no element uses are not part of the model at all.
   model.inactive_dof.assign(n_all, true);
   std::map<std::string, int> types;
-  std::vector<Eigen::Triplet<double>> kt, mt;
-  std::array<std::array<std::vector<Eigen::Triplet<double>>, 3>, 3> ct;
+  // Assembly in place (block_assembly.hpp): stiffness couples all translation components, the mass
+  // each with itself, and the component masses int rho N_a^T N_b dV one pair (a, b) each.
+  const NodeGraph graph = node_graph(mesh_nodes, mesh.elements);
+  std::array<std::array<bool, 3>, 3> all{}, diagonal{};
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b) all[a][b] = true, diagonal[a][b] = a == b;
+  BlockAssembler kt(graph, n_nodes, all), mt(graph, n_nodes, diagonal);
+  std::vector<BlockAssembler> ct;
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b) {
+      std::array<std::array<bool, 3>, 3> one{};
+      one[a][b] = true;
+      ct.emplace_back(graph, n_nodes, one);
+    }
   model.position_moment_all = Eigen::MatrixXd::Zero(n_all, 9);
   for (const MeshElement& e : mesh.elements) {
     const SolidType type = parse_solid_type(e.type);
@@ -248,15 +261,15 @@ FeModel build_volume_model(const Component& c, const Mesh& mesh) {
       for (int a = 0; a < 3; ++a) model.inactive_dof[6 * ni + a] = false;
       for (int j = 0; j < n; ++j) {
         const int nj = e.nodes[j];
+        const int p = graph.position(nj, ni);  // row node ni among column node nj's neighbours
         const double mij = m.scalar_mass(i, j);
         for (int a = 0; a < 3; ++a) {
           for (int b = 0; b < 3; ++b) {
-            const double kij = m.stiffness(3 * i + a, 3 * j + b);
-            if (kij != 0.0) kt.emplace_back(6 * ni + a, 6 * nj + b, kij);
+            kt.add(p, a, nj, b, m.stiffness(3 * i + a, 3 * j + b));
             // int rho N_a^T N_b dV: displacement component a at node i times component b at node j.
-            if (mij != 0.0) ct[a][b].emplace_back(6 * ni + a, 6 * nj + b, mij);
+            ct[3 * a + b].add(p, a, nj, b, mij);
           }
-          if (mij != 0.0) mt.emplace_back(6 * ni + a, 6 * nj + a, mij);
+          mt.add(p, a, nj, a, mij);
         }
         // int rho x_k u_A dV = sum_j m_ij x_k(j) u_A(i): the position is interpolated like u.
         for (int k = 0; k < 3; ++k)
@@ -269,16 +282,10 @@ FeModel build_volume_model(const Component& c, const Mesh& mesh) {
   std::string kinds;
   for (const auto& [name, count] : types) kinds += (kinds.empty() ? "" : " + ") + name;
   model.element_kind = kinds + " elements";
-
-  auto assemble = [n_all](const std::vector<Eigen::Triplet<double>>& t) {
-    SparseMatrix a(n_all, n_all);
-    a.setFromTriplets(t.begin(), t.end());
-    return a;
-  };
-  model.stiffness_all = assemble(kt);
-  model.mass_all = assemble(mt);
+  model.stiffness_all = kt.take();
+  model.mass_all = mt.take();
   for (int a = 0; a < 3; ++a)
-    for (int b = 0; b < 3; ++b) model.component_mass_all[a][b] = assemble(ct[a][b]);
+    for (int b = 0; b < 3; ++b) model.component_mass_all[a][b] = ct[3 * a + b].take();
 
   model.surface = extract_surface(mesh);
   std::vector<bool> on_surface(mesh_nodes, false);

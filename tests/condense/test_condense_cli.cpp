@@ -2,6 +2,7 @@
 // no output file; good input writes the documented layout.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <filesystem>
@@ -240,6 +241,105 @@ TEST_F(CondenseCli, InterruptedRunLeavesNoOutputAndExitsWithThree) {
   EXPECT_EQ(WEXITSTATUS(status), 3) << text;
   EXPECT_NE(text.find("terminated (SIGTERM)"), std::string::npos) << text;
   EXPECT_TRUE(directory_holds_only_the_input());
+}
+
+// ---------------------------------------------------------------------------------------------
+// Volume components: bad input gives exit 1, a located message and no output (issue 3, section 5).
+
+class VolumeCli : public CondenseCli {
+ protected:
+  void SetUp() override {
+    CondenseCli::SetUp();
+    // A 0.1 x 0.02 x 0.02 m steel bar with its end faces as physical groups.
+    std::ofstream(dir_ / "bar.geo")
+        << "SetFactory(\"OpenCASCADE\");\nBox(1) = {0, 0, 0, 0.1, 0.02, 0.02};\n"
+           "Physical Surface(\"LEFT\") = Surface In BoundingBox{-1e-4, -1, -1, 1e-4, 1, 1};\n"
+           "Physical Surface(\"RIGHT\") = Surface In BoundingBox{0.0999, -1, -1, 0.1001, 1, 1};\n"
+           "Physical Volume(\"BAR\") = {1};\nMesh.MeshSizeMax = 0.01;\n";
+  }
+  /// Line 10: [volume] mesh; 13-16: the [[interface]] (15: its `at`); then [reduction] and `extra`.
+  static std::string component(const std::string& mesh, const std::string& interface_lines,
+                               const std::string& extra = "") {
+    return "[component]\nname = \"bar\"\nkind = \"volume\"\n[material.steel]\nE = 210e9\nnu = 0.3\n"
+           "rho = 7850.0\n\n[volume]\nmesh = \"" +
+           mesh + "\"\nmaterial = \"steel\"\n\n[[interface]]\nname = \"end\"\n" + interface_lines +
+           "\n[reduction]\nmethod = \"modal\"\nmodes = 4\n" + extra;
+  }
+  /// No output, no temporary: only the inputs the test wrote.
+  bool only_inputs() const {
+    for (const auto& entry : fs::directory_iterator(dir_)) {
+      const std::string name = entry.path().filename().string();
+      if (name != "part.toml" && name != "bar.geo" && name != "bad.geo" && name != "tet.inp") return false;
+    }
+    return true;
+  }
+};
+
+const std::string kRightFace = "at = [0.1, 0.01, 0.01]\nsurface = \"RIGHT\"";
+
+TEST_F(VolumeCli, GoodInputCondenses) {
+  const CliRun run = run_condense(component("bar.geo", kRightFace));
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_NE(run.output.find("stages [s]: read"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("factor: "), std::string::npos) << run.output;
+  nvh::h5::File file = nvh::h5::File::open_read(output());
+  const nvh::h5::Group model = file.root().open_group("model");
+  const std::vector<std::string> stages = model.strings_attribute("stage_names");
+  for (const char* stage : {"mesh", "assemble", "order", "factor", "eigen-solve", "reduce"})
+    EXPECT_NE(std::find(stages.begin(), stages.end(), stage), stages.end()) << stage;
+  // The fill of the factor: nnz(L) / nnz(tril A) >= 1, and METIS or AMD chose the ordering.
+  EXPECT_GE(model.double_attribute("factor_fill"), 1.0);
+  EXPECT_FALSE(model.string_attribute("factor_ordering").empty());
+}
+
+TEST_F(VolumeCli, UnreadableGeometry) {
+  std::ofstream(dir_ / "bad.geo") << "this is not a gmsh script {\n";
+  const CliRun run = run_condense(component("bad.geo", kRightFace));
+  EXPECT_EQ(run.exit_code, 1) << run.output;
+  EXPECT_NE(run.output.find("bad.geo"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("gmsh"), std::string::npos) << run.output;
+  EXPECT_TRUE(only_inputs());
+}
+
+TEST_F(VolumeCli, PhysicalGroupThatDoesNotExist) {
+  const CliRun run = run_condense(component("bar.geo", "at = [0.1, 0.01, 0.01]\nsurface = \"TIP\""));
+  expect_located(run, 15, "interface[1].surface", "\"TIP\" is not in the mesh");
+  EXPECT_NE(run.output.find("LEFT"), std::string::npos) << run.output;  // the sets it has
+  EXPECT_TRUE(only_inputs());
+}
+
+TEST_F(VolumeCli, SelectorThatCatchesNoNode) {
+  const CliRun run =
+      run_condense(component("bar.geo", "at = [0.1, 0.01, 0.01]\nbox = [0.2, 0, 0, 0.3, 1, 1]"));
+  expect_located(run, 15, "interface[1].box", "the box holds no node of the mesh");
+  EXPECT_TRUE(only_inputs());
+}
+
+TEST_F(VolumeCli, InvertedElement) {
+  // One C3D4 with nodes 2 and 3 exchanged: inside out.
+  std::ofstream(dir_ / "tet.inp")
+      << "*NODE\n1, 0, 0, 0\n2, 0.01, 0, 0\n3, 0, 0.01, 0\n4, 0, 0, 0.01\n"
+         "*ELEMENT, TYPE=C3D4, ELSET=E\n7, 1, 3, 2, 4\n*NSET, NSET=FACE\n1, 2, 3\n";
+  const CliRun run = run_condense(component("tet.inp", "at = [0, 0, 0]\nsurface = \"FACE\""));
+  EXPECT_EQ(run.exit_code, 1) << run.output;
+  EXPECT_NE(run.output.find("tet.inp:7"), std::string::npos) << run.output;  // file and line of the element
+  EXPECT_NE(run.output.find("element 7 (C3D4)"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("inverted"), std::string::npos) << run.output;
+  EXPECT_TRUE(only_inputs());
+}
+
+TEST_F(VolumeCli, ConnectionPointFarFromItsSurface) {
+  // 100 mm typed as 100 m.
+  const CliRun run = run_condense(component("bar.geo", "at = [100, 0.01, 0.01]\nsurface = \"RIGHT\""));
+  expect_located(run, 15, "interface[1].at", "farther than the size of the surface");
+  EXPECT_TRUE(only_inputs());
+}
+
+TEST_F(VolumeCli, KeepMeshIsForVolumes) {
+  const CliRun run = run_condense(kGood, "--keep-mesh");
+  EXPECT_EQ(run.exit_code, 1) << run.output;
+  EXPECT_NE(run.output.find("--keep-mesh is for volume components"), std::string::npos) << run.output;
+  EXPECT_TRUE(only_inputs());
 }
 
 }  // namespace
