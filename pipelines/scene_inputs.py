@@ -17,7 +17,11 @@ INPUT_KEYS = ("superelement", "file")
 def scene_inputs(scene: Path) -> list[str]:
     """Paths (as written, relative to the scene's folder) of every file the scene refers to, in order."""
     with open(scene, "rb") as f:
-        doc = tomllib.load(f)
+        return inputs_of(tomllib.load(f))
+
+
+def inputs_of(doc: dict) -> list[str]:
+    """The same for a parsed scene."""
     found: list[str] = []
 
     def walk(node):
