@@ -39,7 +39,11 @@ std::vector<Signal> signals_of(const Scene& s) {
       for (const auto& c : f.element->channel_names()) {
         const auto u = c.rfind('_');
         std::string unit = c.substr(u + 1);
-        if (c.ends_with("_m_s")) unit = "m/s";
+        if (c.ends_with("_m3_s")) unit = "m^3/s";
+        else if (c.ends_with("_m_s")) unit = "m/s";
+        else if (c.ends_with("_pa")) unit = "Pa";
+        else if (c.ends_with("_w")) unit = "W";
+        else if (c.ends_with("_ratio")) unit = "1";
         else if (c.ends_with("_n")) unit = "N";
         else if (c.ends_with("_nm")) unit = "N m";
         else if (c.ends_with("_rpm")) unit = "rpm";
