@@ -253,7 +253,14 @@ void Model::consistent_initial_state(double t0, Eigen::VectorXd& y, Eigen::Vecto
       y.segment(velocity_offset(b), bodies[b]->velocity_count()) = w.segment(w_global_offset_[b], bodies[b]->velocity_count());
   };
 
-  // 3. Velocities onto C w + Phi_t = 0 (minimal-norm correction).
+  // 3. Velocities onto C w + Phi_t = 0: the correction of least kinetic energy (the mass-weighted projection
+  //    dw = -M^-1 C^T (C M^-1 C^T)^-1 (C w + Phi_t)), so a body whose velocity the user left out takes the
+  //    velocity the joints impose with the least change of momentum.
+  Eigen::MatrixXd mass = Eigen::MatrixXd::Zero(n_w_, n_w_);
+  for (std::size_t b = 0; b < bodies.size(); ++b) {
+    const int nw = bodies[b]->velocity_count();
+    if (nw > 0) mass.block(w_global_offset_[b], w_global_offset_[b], nw, nw) = bodies[b]->mass_matrix(positions(b, y.data()));
+  }
   std::vector<int> keep;
   if (n_eq_ > 0) {
     constraint_matrix(t0, y.data(), cm, phi, phi_t);
@@ -262,7 +269,12 @@ void Model::consistent_initial_state(double t0, Eigen::VectorXd& y, Eigen::Vecto
     Eigen::VectorXd g(keep.size());
     for (std::size_t k = 0; k < keep.size(); ++k) g[k] = phi_t[keep[k]];
     const Eigen::VectorXd violation = ca * w + g;
-    if (violation.size() > 0) w -= ca.completeOrthogonalDecomposition().solve(violation);
+    if (violation.size() > 0) {
+      const Eigen::LDLT<Eigen::MatrixXd> m_ldlt(mass);
+      const Eigen::MatrixXd minv_ct = m_ldlt.solve(ca.transpose());
+      const Eigen::MatrixXd schur = ca * minv_ct;
+      w -= minv_ct * schur.completeOrthogonalDecomposition().solve(violation);
+    }
     store_w();
   }
 
@@ -279,12 +291,10 @@ void Model::consistent_initial_state(double t0, Eigen::VectorXd& y, Eigen::Vecto
   // 4. Accelerations and multipliers: [M C^T; C 0] [w'; lambda] = [Q - h; -(dC/dt w + Phi_tt)].
   Eigen::VectorXd f0(size_);
   residual(t0, y.data(), yp.data(), f0.data());  // with w' = 0, lambda = 0: dynamics rows = h - Q
-  Eigen::MatrixXd mass = Eigen::MatrixXd::Zero(n_w_, n_w_);
   Eigen::VectorXd rhs_w(n_w_);
   for (std::size_t b = 0; b < bodies.size(); ++b) {
     const int nw = bodies[b]->velocity_count();
     if (nw == 0) continue;
-    mass.block(w_global_offset_[b], w_global_offset_[b], nw, nw) = bodies[b]->mass_matrix(positions(b, y.data()));
     rhs_w.segment(w_global_offset_[b], nw) = -f0.segment(velocity_offset(b), nw);
   }
   const int na = static_cast<int>(keep.size());
