@@ -27,9 +27,13 @@ std::vector<Signal> signals_of(const Scene& s) {
       if (b->velocity_count() == 0) continue;
       out.push_back({"bodies/" + b->name() + "/position", 3, "m"});
       out.push_back({"bodies/" + b->name() + "/velocity", 3, "m/s"});
-      if (b->kind() == "rigid") {
+      if (b->kind() == "rigid" || b->kind() == "flexible") {
         out.push_back({"bodies/" + b->name() + "/euler_parameters", 4, "1"});
         out.push_back({"bodies/" + b->name() + "/angular_velocity", 3, "rad/s"});
+      }
+      if (b->kind() == "flexible") {  // the elastic coordinates and their rates (units of the superelement)
+        out.push_back({"bodies/" + b->name() + "/modal_coordinates", b->position_count() - 7, "superelement coordinates"});
+        out.push_back({"bodies/" + b->name() + "/modal_velocities", b->position_count() - 7, "superelement coordinates / s"});
       }
     }
   if (s.output.forces)
@@ -162,9 +166,14 @@ void ResultsWriter::add_sample(double t, const Scene& scene, const Eigen::Vector
       const std::string base = "bodies/" + body.name() + "/";
       put(base + "position", body.reference_position(q));
       put(base + "velocity", Eigen::Map<const Vec3>(w.data()));
-      if (body.kind() == "rigid") {
+      if (body.kind() == "rigid" || body.kind() == "flexible") {
         put(base + "euler_parameters", Eigen::Map<const Vec4>(q.data() + 3));
         put(base + "angular_velocity", Vec3(body.rotation(q) * Eigen::Map<const Vec3>(w.data() + 3)));
+      }
+      if (body.kind() == "flexible") {
+        const Eigen::Index m = body.position_count() - 7;
+        put(base + "modal_coordinates", Eigen::Map<const Eigen::VectorXd>(q.data() + 7, m));
+        put(base + "modal_velocities", Eigen::Map<const Eigen::VectorXd>(w.data() + 6, m));
       }
     }
   if (scene.output.forces) {
