@@ -154,7 +154,7 @@ Superelement condense_component(const Component& c, EigenBackend backend, const 
              std::to_string(mesh.elements.size()) + " elements from " + c.volume.mesh.filename().string());
     if (timer) timer->lap("mesh");
   }
-  const FeModel model = volume ? build_volume_model(c, mesh) : build_beam_model(c);
+  FeModel model = volume ? build_volume_model(c, mesh) : build_beam_model(c);
   // A volume's interfaces are its coupling nodes; a beam's must lie on nodes of the beam.
   const std::vector<int> interface_nodes =
       volume ? model.coupling_nodes : locate(model, c.interfaces, c.point_tolerance, "interface");
@@ -175,6 +175,7 @@ Superelement condense_component(const Component& c, EigenBackend backend, const 
   }
   const SparseMatrix K = model.stiffness();
   const SparseMatrix M = model.mass();
+  if (volume) model.stiffness_all = SparseMatrix();  // not needed again: free it before the factorization
   log.info("model: " + std::to_string(model.nodes.size()) + " nodes, " + std::to_string(model.element_count) +
            " " + model.element_kind + ", " + std::to_string(model.free_dofs()) + " free DOF");
   if (timer) timer->lap("assemble");
@@ -231,6 +232,7 @@ Superelement condense_component(const Component& c, EigenBackend backend, const 
     }
     se.surface = std::move(s);
   }
+  if (volume) add_component_masses(model);
   se.inertia = rigid_body_inertia(model);
   se.invariants = modal_invariants(model, shapes);
   se.node_count = static_cast<int>(model.nodes.size());

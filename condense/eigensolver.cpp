@@ -132,7 +132,8 @@ class ShiftInvertOperator {
  private:
   void factorize(double sigma) {
     if (!factor_) throw Error("internal: the shift of an eigen-solve on a given factorization cannot move");
-    const SparseMatrix a = K_ - sigma * M_;
+    // The lower triangle only: the factorization reads no more, and it halves this copy.
+    const SparseMatrix a = SparseMatrix((K_ - sigma * M_).triangularView<Eigen::Lower>());
     if (!factor_->factorize(a)) {
       std::string where;
       if (const Eigen::Index dof = factor_->failed_dof(); dof >= 0) {

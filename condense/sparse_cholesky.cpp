@@ -105,8 +105,10 @@ bool SparseCholesky::factorize(const SparseMatrix& a) {
     stats_.ordering = ordering_name(c.method[selected].ordering);
     stats_.factor_nonzeros = c.method[selected].lnz;
     stats_.flops = c.method[selected].fl;
-    stats_.matrix_nonzeros =
-        static_cast<double>(a.nonZeros() + a.rows()) / 2.0;  // full pattern, diagonal set
+    double lower = 0;  // entries on and below the diagonal (a may hold both triangles or the lower one)
+    for (Eigen::Index col = 0; col < a.outerSize(); ++col)
+      for (SparseMatrix::InnerIterator it(a, col); it; ++it) lower += it.row() >= col;
+    stats_.matrix_nonzeros = lower;
     impl_->analysed = true;
   }
   const auto start = std::chrono::steady_clock::now();

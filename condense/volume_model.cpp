@@ -203,7 +203,25 @@ Mesh load_volume_mesh(const Component& c) {
 }
 
 FeModel build_volume_model(const Component& c) {
-  return build_volume_model(c, load_volume_mesh(c));
+  FeModel model = build_volume_model(c, load_volume_mesh(c));
+  add_component_masses(model);
+  return model;
+}
+
+void add_component_masses(FeModel& model) {
+  // int rho N_a^T N_b dV: displacement component a at node i times component b at node j is the
+  // scalar mass m_ij, which M_all holds at (6 i + a, 6 j + a) for every a; read it from a = 0.
+  const SparseMatrix& m = model.mass_all;
+  for (int a = 0; a < 3; ++a) {
+    for (int b = 0; b < 3; ++b) {
+      std::vector<Eigen::Triplet<double>> t;
+      for (Eigen::Index col = 0; col < m.outerSize(); col += 6)
+        for (SparseMatrix::InnerIterator it(m, col); it; ++it)
+          if (it.row() % 6 == 0) t.emplace_back(it.row() + a, col + b, it.value());
+      model.component_mass_all[a][b].resize(m.rows(), m.cols());
+      model.component_mass_all[a][b].setFromTriplets(t.begin(), t.end());
+    }
+  }
 }
 
 FeModel build_volume_model(const Component& c, const Mesh& mesh) {
@@ -233,13 +251,6 @@ FeModel build_volume_model(const Component& c, const Mesh& mesh) {
   for (int a = 0; a < 3; ++a)
     for (int b = 0; b < 3; ++b) all[a][b] = true, diagonal[a][b] = a == b;
   BlockAssembler kt(graph, n_nodes, all), mt(graph, n_nodes, diagonal);
-  std::vector<BlockAssembler> ct;
-  for (int a = 0; a < 3; ++a)
-    for (int b = 0; b < 3; ++b) {
-      std::array<std::array<bool, 3>, 3> one{};
-      one[a][b] = true;
-      ct.emplace_back(graph, n_nodes, one);
-    }
   model.position_moment_all = Eigen::MatrixXd::Zero(n_all, 9);
   for (const MeshElement& e : mesh.elements) {
     const SolidType type = parse_solid_type(e.type);
@@ -266,8 +277,6 @@ FeModel build_volume_model(const Component& c, const Mesh& mesh) {
         for (int a = 0; a < 3; ++a) {
           for (int b = 0; b < 3; ++b) {
             kt.add(p, a, nj, b, m.stiffness(3 * i + a, 3 * j + b));
-            // int rho N_a^T N_b dV: displacement component a at node i times component b at node j.
-            ct[3 * a + b].add(p, a, nj, b, mij);
           }
           mt.add(p, a, nj, a, mij);
         }
@@ -284,8 +293,7 @@ FeModel build_volume_model(const Component& c, const Mesh& mesh) {
   model.element_kind = kinds + " elements";
   model.stiffness_all = kt.take();
   model.mass_all = mt.take();
-  for (int a = 0; a < 3; ++a)
-    for (int b = 0; b < 3; ++b) model.component_mass_all[a][b] = ct[3 * a + b].take();
+  // The component masses (component_mass_all) follow from the mass later: add_component_masses().
 
   model.surface = extract_surface(mesh);
   std::vector<bool> on_surface(mesh_nodes, false);

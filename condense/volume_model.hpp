@@ -17,7 +17,11 @@ Mesh load_volume_mesh(const Component& component);
 /// points far from their surface.
 FeModel build_volume_model(const Component& component, const Mesh& mesh);
 
-/// Both steps.
+/// Both steps, and add_component_masses.
 FeModel build_volume_model(const Component& component);
+
+/// The section-resolved masses component_mass_all (for the inertia invariants), from mass_all. The
+/// two-step build leaves them out, so that they do not take memory during the factorization.
+void add_component_masses(FeModel& model);
 
 }  // namespace nvh::condense
