@@ -95,6 +95,7 @@ void Progress::update(std::int64_t done) {
       line << shown << " done";
     }
     line << "  " << format_duration(elapsed) << "  ";
+    if (!detail_.empty()) line << detail_ << "  ";
     logger_.stream() << line.str() << std::flush;
     last_line_ = now;
     last_percent_ = percent;
@@ -117,9 +118,15 @@ void Progress::update(std::int64_t done) {
   } else {
     line << shown << " done, " << format_duration(elapsed) << " elapsed";
   }
+  if (!detail_.empty()) line << "; " << detail_;
   logger_.info(line.str());
   last_line_ = now;
   last_percent_ = percent;
+}
+
+void Progress::update(std::int64_t done, const std::string& detail) {
+  detail_ = detail;
+  update(done);
 }
 
 void Progress::finish() {

@@ -25,6 +25,8 @@ class Progress {
   Progress& operator=(const Progress&) = delete;
 
   void update(std::int64_t done);
+  /// The same with a detail appended to the bar or line (e.g. "t = 0.12 s, 1440 deg, 850 steps/s").
+  void update(std::int64_t done, const std::string& detail);
   /// Final line with the elapsed time ("label: done in 3.2 s").
   void finish();
 
@@ -40,6 +42,7 @@ class Progress {
   std::chrono::steady_clock::time_point last_line_;
   int last_percent_ = -1;
   bool finished_ = false;
+  std::string detail_;
 };
 
 }  // namespace nvh

@@ -68,6 +68,7 @@ RunSummary run_scene(Scene& scene, const RunOptions& options, const Provenance& 
     since_flush = 0;
   };
   Eigen::VectorXd ys, yps;
+  double last_detail = -1.0;
   try {
     bool done = false;
     while (!done) {
@@ -90,7 +91,17 @@ RunSummary run_scene(Scene& scene, const RunOptions& options, const Provenance& 
       const double fraction =
           by_angle ? (model.crank_angle(ys.data()) - angle_origin) * 180.0 / std::numbers::pi
                    : 1000.0 * (t - scene.start_time) / std::max(1e-300, t_end - scene.start_time);
-      progress.update(static_cast<std::int64_t>(fraction));
+      const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+      if (wall - last_detail >= 0.5) {  // the detail (statistics, formatting) at most twice a second
+        last_detail = wall;
+        const IntegratorStatistics st = integrator->statistics();
+        std::ostringstream detail;
+        detail.precision(4);
+        detail << "t = " << t << " s";
+        if (model.clock) detail << ", " << model.crank_angle(ys.data()) * 180.0 / std::numbers::pi << " deg";
+        detail << ", " << static_cast<long>(st.steps / std::max(wall, 1e-9)) << " steps/s";
+        progress.update(static_cast<std::int64_t>(fraction), detail.str());
+      }
       if (interrupt_requested()) {
         summary.status = "interrupted";
         break;
