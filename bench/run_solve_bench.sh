@@ -8,7 +8,7 @@ OUT=${1:-out/bench/solve}
 mkdir -p "$OUT"
 cp testdata/scenes/slider_crank_flexible.toml "$OUT/"
 "$BUILD/condense/condense" testdata/conrod.toml -o "$OUT/conrod.h5" -q
-"$BUILD/bench/bench_solve_work_precision" "$OUT/slider_crank_flexible.toml" markers/conrod.small_end/position 0 "$OUT/flexible_conrod.csv"
+"$BUILD/bench/bench_solve_work_precision" "$OUT/slider_crank_flexible.toml" markers/piston.pin/position 1 "$OUT/flexible_conrod.csv"
 "$BUILD/bench/bench_solve_work_precision" testdata/scenes/piston_slap.toml markers/piston.pin/position 0 "$OUT/piston_slap.csv"
 /usr/bin/python3 bench/plot_work_precision.py "$OUT/flexible_conrod.csv" "$OUT/piston_slap.csv" -o "$OUT/work_precision.png"
 echo "charts: $OUT/work_precision.png"
