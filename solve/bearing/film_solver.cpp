@@ -1,0 +1,381 @@
+#include "solve/bearing/film_solver.hpp"
+
+#include <klu.h>
+
+#include <Eigen/SparseCore>
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "common/error.hpp"
+
+namespace nvh::bearing {
+
+namespace {
+
+// Sparse LU of the reduced Newton matrix by KLU (Davis and Palamadai Natarajan, ACM TOMS 37 (2010) 36): the
+// fill-reducing ordering (AMD) is computed once per grid; each Newton step refactorizes numerically with the
+// pivot sequence of the last full factorization (klu_refactor) and falls back to a full factorization with
+// partial pivoting when the reciprocal pivot growth or condition estimate says the old pivots went bad.
+class KluLu {
+ public:
+  KluLu() { klu_defaults(&common_); }
+  KluLu(const KluLu&) = delete;
+  KluLu& operator=(const KluLu&) = delete;
+  ~KluLu() {
+    if (numeric_) klu_free_numeric(&numeric_, &common_);
+    if (symbolic_) klu_free_symbolic(&symbolic_, &common_);
+  }
+  void analyze(Eigen::SparseMatrix<double>& a) {
+    symbolic_ = klu_analyze(static_cast<int>(a.rows()), a.outerIndexPtr(), a.innerIndexPtr(), &common_);
+    if (!symbolic_)
+      throw Error("finite film: KLU could not analyze the Reynolds matrix (status " +
+                  std::to_string(common_.status) + ")");
+  }
+  /// Numeric factorization of `a` (same pattern as analyzed). False if the matrix is singular.
+  bool factorize(Eigen::SparseMatrix<double>& a) {
+    int* ap = a.outerIndexPtr();
+    int* ai = a.innerIndexPtr();
+    double* ax = a.valuePtr();
+    if (numeric_ && klu_refactor(ap, ai, ax, symbolic_, numeric_, &common_) &&
+        klu_rgrowth(ap, ai, ax, symbolic_, numeric_, &common_) && common_.rgrowth > 1e-8 &&
+        klu_rcond(symbolic_, numeric_, &common_) && common_.rcond > 1e-12)
+      return true;
+    if (numeric_) klu_free_numeric(&numeric_, &common_);
+    numeric_ = klu_factor(ap, ai, ax, symbolic_, &common_);
+    return numeric_ != nullptr && common_.status == KLU_OK;
+  }
+  /// Solves in place: b <- A^-1 b.
+  void solve(Eigen::VectorXd& b) {
+    klu_solve(symbolic_, numeric_, static_cast<int>(b.size()), 1, b.data(), &common_);
+  }
+
+ private:
+  klu_common common_;
+  klu_symbolic* symbolic_ = nullptr;
+  klu_numeric* numeric_ = nullptr;
+};
+
+}  // namespace
+
+struct FilmSolver::Linear {
+  Eigen::SparseMatrix<double> A;
+  std::vector<int> value_index;  // cell * 5 + slot -> index into A.valuePtr() (-1: absent)
+  KluLu lu;
+};
+
+FilmSolver::FilmSolver() = default;
+FilmSolver::FilmSolver(const FilmSolver& o)
+    : problem(o.problem),
+      neighbour_(o.neighbour_),
+      min_complementarity_(o.min_complementarity_),
+      last_(o.last_) {}
+FilmSolver& FilmSolver::operator=(const FilmSolver& o) {
+  if (this != &o) *this = FilmSolver(o);
+  return *this;
+}
+FilmSolver::FilmSolver(FilmSolver&&) noexcept = default;
+FilmSolver& FilmSolver::operator=(FilmSolver&&) noexcept = default;
+FilmSolver::~FilmSolver() = default;
+
+void FilmSolver::build_pattern() {
+  const int nx = problem.nx, nz = problem.nz, n = cells();
+  neighbour_.resize(n);
+  for (int k = 0; k < nz; ++k) {
+    for (int i = 0; i < nx; ++i) {
+      int east = i + 1 < nx ? i + 1 : (problem.periodic_x ? 0 : -1);
+      int west = i > 0 ? i - 1 : (problem.periodic_x ? nx - 1 : -1);
+      neighbour_[i + nx * k] = {i + nx * k, east >= 0 ? east + nx * k : -1, west >= 0 ? west + nx * k : -1,
+                                k + 1 < nz ? i + nx * (k + 1) : -1, k > 0 ? i + nx * (k - 1) : -1};
+    }
+  }
+  linear_ = std::make_unique<Linear>();
+  std::vector<Eigen::Triplet<double>> t;
+  for (int m = 0; m < n; ++m)
+    for (int s = 0; s < 5; ++s)
+      if (neighbour_[m][s] >= 0) t.emplace_back(m, neighbour_[m][s], m * 5 + s + 1.0);  // tag: slot id + 1
+  linear_->A.resize(n, n);
+  linear_->A.setFromTriplets(t.begin(), t.end());
+  linear_->A.makeCompressed();
+  linear_->value_index.assign(5 * n, -1);
+  for (int v = 0; v < linear_->A.nonZeros(); ++v) {
+    linear_->value_index[static_cast<int>(linear_->A.valuePtr()[v]) - 1] = v;
+  }
+  linear_->lu.analyze(linear_->A);
+}
+
+void FilmSolver::assemble(const Eigen::VectorXd& P, const Eigen::VectorXd& r, bool jacobian, FilmAssembly& a,
+                          bool linear) const {
+  const FilmProblem& f = problem;
+  const int nx = f.nx, nz = f.nz, n = cells();
+  const Cavitation cavitation = linear ? Cavitation::kNone : f.cavitation;
+  const bool jfo = cavitation == Cavitation::kJfo;
+  const bool ss = cavitation == Cavitation::kSwiftStieber;
+  const double barus = linear ? 0.0 : f.barus;
+  const double dx = f.dx, dz = f.dz, C = f.couette;
+  a.M.setZero(n);
+  a.side_flow = a.west_flow = a.east_flow = 0;
+  if (jacobian) {
+    a.JP.assign(n, {0, 0, 0, 0, 0});
+    a.JR.assign(n, {0, 0, 0, 0, 0});
+  }
+  // Fluidity mu0 / mu = exp(-alpha p) (Barus), taken as 1 below ambient; and its derivative.
+  auto fluidity = [&](double p) { return barus > 0 && p > 0 ? std::exp(-barus * p) : 1.0; };
+  auto dfluidity = [&](double p) { return barus > 0 && p > 0 ? -barus * std::exp(-barus * p) : 0.0; };
+  const double area = dx * dz;
+
+  for (int k = 0; k < nz; ++k) {
+    const int row = nx * k;
+    // Faces between columns i and i + 1 along x (periodic, or the east end for the last column).
+    for (int i = 0; i < nx; ++i) {
+      const int w = row + i;
+      const double G = f.g_east[i], H = f.h_east[i];
+      if (i + 1 == nx && !f.periodic_x) {  // east end: P = p_east half a cell away, full film from outside
+        const double g = G * fluidity(P[w]);
+        const double dP = f.p_east - P[w];
+        const double fill = jfo && C >= 0 ? 1 - r[w] : 1.0;
+        const double F = (-g * dP / (0.5 * dx) + C * H * fill) * dz;
+        a.M[w] += F;
+        a.east_flow += F;
+        if (!jacobian) continue;
+        a.JP[w][kSelf] += (g - G * dfluidity(P[w]) * dP) / (0.5 * dx) * dz;
+        if (jfo && C >= 0) a.JR[w][kSelf] -= C * H * dz;
+        continue;
+      }
+      const int e = row + (i + 1) % nx;
+      const double fw = fluidity(P[w]), fe = fluidity(P[e]);
+      const double g = G * 0.5 * (fw + fe);
+      const int up = C >= 0 ? w : e;
+      const double fill = jfo ? 1 - r[up] : 1.0;
+      const double dP = P[e] - P[w];
+      const double F = (-g * dP / dx + C * H * fill) * dz;
+      a.M[w] += F;
+      a.M[e] -= F;
+      if (!jacobian) continue;
+      const double dFw = (g / dx - G * 0.5 * dfluidity(P[w]) * dP / dx) * dz;
+      const double dFe = (-g / dx - G * 0.5 * dfluidity(P[e]) * dP / dx) * dz;
+      a.JP[w][kSelf] += dFw, a.JP[w][kEast] += dFe;
+      a.JP[e][kWest] -= dFw, a.JP[e][kSelf] -= dFe;
+      if (jfo) {
+        const double dFr = -C * H * dz;
+        if (up == w) {
+          a.JR[w][kSelf] += dFr, a.JR[e][kWest] -= dFr;
+        } else {
+          a.JR[w][kEast] += dFr, a.JR[e][kSelf] -= dFr;
+        }
+      }
+    }
+    // West end (not periodic): P = p_west half a cell before column 0, full film from outside.
+    if (!f.periodic_x) {
+      const int s = row;
+      const double G = f.g_west, H = f.h_west;
+      const double g = G * fluidity(P[s]);
+      const double dP = P[s] - f.p_west;
+      const double fill = jfo && C < 0 ? 1 - r[s] : 1.0;
+      const double F = (-g * dP / (0.5 * dx) + C * H * fill) * dz;  // along +x, into the cell
+      a.M[s] -= F;
+      a.west_flow += F;
+      if (jacobian) {
+        a.JP[s][kSelf] += (g + G * dfluidity(P[s]) * dP) / (0.5 * dx) * dz;
+        if (jfo && C < 0) a.JR[s][kSelf] += C * H * dz;
+      }
+    }
+    // Faces across the width, and the two edges (P = 0 half a cell away).
+    for (int i = 0; i < nx; ++i) {
+      const int s = row + i;
+      const double H3 = f.h_centre[i] * f.h_centre[i] * f.h_centre[i];
+      if (k + 1 < nz) {
+        const int nn = s + nx;
+        const double g = H3 * 0.5 * (fluidity(P[s]) + fluidity(P[nn]));
+        const double dP = P[nn] - P[s];
+        const double F = -g * dP / dz * dx;
+        a.M[s] += F;
+        a.M[nn] -= F;
+        if (jacobian) {
+          const double dFs = (g - H3 * 0.5 * dfluidity(P[s]) * dP) / dz * dx;
+          const double dFn = (-g - H3 * 0.5 * dfluidity(P[nn]) * dP) / dz * dx;
+          a.JP[s][kSelf] += dFs, a.JP[s][kNorth] += dFn;
+          a.JP[nn][kSouth] -= dFs, a.JP[nn][kSelf] -= dFn;
+        }
+      }
+      if (f.z_edges && (k == 0 || k == nz - 1)) {
+        const int edges = nz == 1 ? 2 : 1;
+        const double g = H3 * fluidity(P[s]);
+        const double F = edges * g * P[s] / (0.5 * dz) * dx;
+        a.M[s] += F;
+        a.side_flow += F;
+        if (jacobian) a.JP[s][kSelf] += edges * (g + H3 * dfluidity(P[s]) * P[s]) / (0.5 * dz) * dx;
+      }
+    }
+    // Squeeze (quasi-steady: (1 - r) dH/dtau) and the Swift-Stieber mass source.
+    for (int i = 0; i < nx; ++i) {
+      const int m = row + i;
+      a.M[m] += (jfo ? 1 - r[m] : 1.0) * f.hdot[i] * area;
+      if (ss) a.M[m] -= r[m] * area;
+      if (!jacobian) continue;
+      if (jfo) a.JR[m][kSelf] -= f.hdot[i] * area;
+      if (ss) a.JR[m][kSelf] -= area;
+    }
+  }
+  // Complementarity P >= 0, r >= 0, P r = 0 as min(P, r) = 0 (the primal-dual active-set form) or as
+  // Fischer-Burmeister; kNone keeps r = 0 (Phi = r).
+  a.Phi.resize(n), a.ap.resize(n), a.ar.resize(n);
+  for (int m = 0; m < n; ++m) {
+    if (cavitation == Cavitation::kNone || f.supply[m]) {
+      a.Phi[m] = r[m], a.ap[m] = 0, a.ar[m] = 1;
+      continue;
+    }
+    if (min_complementarity_) {
+      const bool pressurized = P[m] > r[m];
+      a.Phi[m] = pressurized ? r[m] : P[m];
+      a.ap[m] = pressurized ? 0 : 1;
+      a.ar[m] = pressurized ? 1 : 0;
+      continue;
+    }
+    const double norm = std::hypot(P[m], r[m]);
+    a.Phi[m] = P[m] + r[m] - norm;
+    if (norm > 1e-300) {
+      a.ap[m] = 1 - P[m] / norm, a.ar[m] = 1 - r[m] / norm;
+    } else {
+      a.ap[m] = a.ar[m] = 1 - std::sqrt(0.5);  // an element of the generalized Jacobian at (0, 0)
+    }
+  }
+}
+
+double FilmSolver::merit(const FilmAssembly& a) const {
+  const double area = problem.dx * problem.dz;
+  double f = 0;
+  for (int m = 0; m < cells(); ++m) {
+    if (problem.supply[m]) continue;
+    const double mm = a.M[m] / area;
+    f += mm * mm + a.Phi[m] * a.Phi[m];
+  }
+  return 0.5 * f;
+}
+
+// One Newton step: J_MP dP + J_MR dr = -M and ap dP + ar dr = -Phi per cell. Each cell keeps the unknown
+// whose complementarity coefficient is smaller and eliminates the other (the larger coefficient is
+// >= 1 - 1/sqrt(2)).
+void FilmSolver::reduce(FilmAssembly& a, Eigen::VectorXd& rhs) {
+  const int n = cells();
+  const std::vector<char>& supply = problem.supply;
+  a.primary_is_p.resize(n);
+  for (int m = 0; m < n; ++m) a.primary_is_p[m] = a.ar[m] >= a.ap[m];
+  double* values = linear_->A.valuePtr();
+  rhs.resize(n);
+  for (int m = 0; m < n; ++m) {
+    if (supply[m]) {  // P = supply, r = 0 held: identity row
+      for (int s = 0; s < 5; ++s)
+        if (linear_->value_index[m * 5 + s] >= 0)
+          values[linear_->value_index[m * 5 + s]] = s == kSelf ? 1 : 0;
+      rhs[m] = 0;
+      continue;
+    }
+    double b = -a.M[m];
+    for (int s = 0; s < 5; ++s) {
+      const int j = neighbour_[m][s];
+      if (j < 0) continue;
+      double v = 0;
+      if (!supply[j]) {
+        if (a.primary_is_p[j]) {
+          v = a.JP[m][s] - a.JR[m][s] * a.ap[j] / a.ar[j];
+          b += a.JR[m][s] * a.Phi[j] / a.ar[j];
+        } else {
+          v = a.JR[m][s] - a.JP[m][s] * a.ar[j] / a.ap[j];
+          b += a.JP[m][s] * a.Phi[j] / a.ap[j];
+        }
+      }
+      values[linear_->value_index[m * 5 + s]] = v;
+    }
+    rhs[m] = b;
+  }
+}
+
+void FilmSolver::cold_start(Eigen::VectorXd& P, Eigen::VectorXd& r) {
+  if (!linear_) build_pattern();
+  const int n = cells();
+  P.setZero(n);
+  r.setZero(n);
+  for (int m = 0; m < n; ++m)
+    if (problem.supply[m]) P[m] = problem.supply_p;
+  if (problem.cavitation == Cavitation::kNone) return;
+  FilmAssembly a;
+  assemble(P, r, true, a, /*linear=*/true);
+  Eigen::VectorXd rhs;
+  reduce(a, rhs);
+  if (!linear_->lu.factorize(linear_->A)) return;  // keep the zero start
+  Eigen::VectorXd d = rhs;
+  linear_->lu.solve(d);
+  for (int m = 0; m < n; ++m) {
+    if (problem.supply[m]) continue;
+    const double p = P[m] + d[m];
+    P[m] = std::max(p, 0.0);
+    r[m] = p < 0 ? (problem.cavitation == Cavitation::kJfo ? 0.1 : 0.0) : 0.0;
+  }
+}
+
+int FilmSolver::solve(Eigen::VectorXd& P, Eigen::VectorXd& r, const FiniteSolverOptions& options) {
+  if (!linear_) build_pattern();
+  const int n = cells();
+  FilmAssembly& a = last_;
+  Eigen::VectorXd rhs, dP(n), dr(n);
+  int iteration = 0;
+  bool converged = false;
+  double last_step = 0;
+  // Active-set (min) Newton first: exact in one step once the cavitated cells are right, because the
+  // discrete equations are linear in (P, r) for a given set (isoviscous). If it has not converged after
+  // kActiveSetIterations, Fischer-Burmeister with line search (globally convergent) takes over.
+  constexpr int kActiveSetIterations = 12;
+  min_complementarity_ = true;
+  for (; iteration < options.max_iterations && !converged; ++iteration) {
+    if (iteration == kActiveSetIterations) min_complementarity_ = false;
+    assemble(P, r, true, a);
+    reduce(a, rhs);
+    if (!linear_->lu.factorize(linear_->A)) break;
+    Eigen::VectorXd y = rhs;
+    linear_->lu.solve(y);
+    for (int m = 0; m < n; ++m) {
+      if (problem.supply[m]) {
+        dP[m] = dr[m] = 0;
+      } else if (a.primary_is_p[m]) {
+        dP[m] = y[m], dr[m] = (-a.Phi[m] - a.ap[m] * y[m]) / a.ar[m];
+      } else {
+        dr[m] = y[m], dP[m] = (-a.Phi[m] - a.ar[m] * y[m]) / a.ap[m];
+      }
+    }
+    const double step = std::max(dP.lpNorm<Eigen::Infinity>() / (1 + P.lpNorm<Eigen::Infinity>()),
+                                 dr.lpNorm<Eigen::Infinity>());
+    // Backtracking (Armijo) on the merit 1/2 |residual|^2; the full step is taken near the solution.
+    // A step below the tolerance is the last: the state is at the solution up to round-off.
+    const double f0 = merit(a);
+    double t = 1;
+    FilmAssembly trial;
+    double f1 = f0;
+    for (int ls = 0; ls < 30 && step >= options.tolerance; ++ls) {
+      assemble(P + t * dP, r + t * dr, false, trial);
+      f1 = merit(trial);
+      // Active-set steps are taken whole (their merit need not decrease while the set is being found).
+      if (min_complementarity_ || f1 <= (1 - 1e-4 * t) * f0 || f0 < 1e-28) break;
+      t *= 0.5;
+    }
+    P += t * dP;
+    r += t * dr;
+    // Converged when the step is below the tolerance; or when the residual at the new state is at round-off
+    // level (the active-set step was exact); or, in the active-set phase (Newton, quadratic once the set is
+    // right), when a full step shows a contraction step_k <= C step_{k-1}^2 that puts the next step,
+    // C step_k^2, below the tolerance. (Not in the Fischer-Burmeister phase: its convergence near
+    // degenerate cells can be linear.)
+    const double contraction = last_step > 0 ? step / (last_step * last_step) : 1e300;
+    converged = step < options.tolerance || (t == 1 && std::sqrt(2 * f1) < options.tolerance * 1e-3) ||
+                (min_complementarity_ && t == 1 && step < 1e-3 && step < 0.1 * last_step &&
+                 contraction * step * step < options.tolerance);
+    last_step = t == 1 ? step : 0.0;
+  }
+  return converged ? iteration : -iteration;
+}
+
+void FilmSolver::solve_last(Eigen::VectorXd& b) {
+  linear_->lu.solve(b);
+}
+
+}  // namespace nvh::bearing
