@@ -324,11 +324,10 @@ int FilmSolver::solve(Eigen::VectorXd& P, Eigen::VectorXd& r, const FiniteSolver
   double last_step = 0;
   // Active-set (min) Newton first: exact in one step once the cavitated cells are right, because the
   // discrete equations are linear in (P, r) for a given set (isoviscous). If it has not converged after
-  // kActiveSetIterations, Fischer-Burmeister with line search (globally convergent) takes over.
-  constexpr int kActiveSetIterations = 12;
+  // options.active_set_iterations, Fischer-Burmeister with line search (globally convergent) takes over.
   min_complementarity_ = true;
   for (; iteration < options.max_iterations && !converged; ++iteration) {
-    if (iteration == kActiveSetIterations) min_complementarity_ = false;
+    if (iteration == options.active_set_iterations) min_complementarity_ = false;
     assemble(P, r, true, a);
     reduce(a, rhs);
     if (!linear_->lu.factorize(linear_->A)) break;

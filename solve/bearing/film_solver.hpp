@@ -20,12 +20,12 @@
 // The complementarity P >= 0, r >= 0, P r = 0 is solved with the mass balance by a semismooth Newton method:
 // first as min(P, r) = 0, a primal-dual active-set method (Hintermueller, Ito and Kunisch, SIAM J. Optim.
 // 13 (2003) 865): for a given set of cavitated cells the isoviscous equations are linear, so once the set is
-// right one full step is exact; after 12 steps as Fischer-Burmeister P + r - sqrt(P^2 + r^2) = 0 with
-// Armijo backtracking (Fischer 1992; Woloszynski et al., Tribol. Lett. 58 (2015) 18). Each Newton step
-// eliminates one unknown per cell with the local complementarity equation (the one with the larger
-// derivative), so the linear system has one unknown per cell and the five-point pattern; it is factorized
-// by KLU with the ordering computed once per grid and numeric refactorizations that keep the pivot sequence
-// while it stays well conditioned.
+// right one full step is exact; after `active_set_iterations` (12) steps as Fischer-Burmeister P + r -
+// sqrt(P^2 + r^2) = 0 with Armijo backtracking (Fischer 1992; Woloszynski et al., Tribol. Lett. 58 (2015)
+// 18). Each Newton step eliminates one unknown per cell with the local complementarity equation (the one with
+// the larger derivative), so the linear system has one unknown per cell and the five-point pattern; it is
+// factorized by KLU with the ordering computed once per grid and numeric refactorizations that keep the pivot
+// sequence while it stays well conditioned.
 #include <Eigen/Core>
 #include <array>
 #include <memory>
@@ -38,6 +38,8 @@ namespace nvh::bearing {
 struct FiniteSolverOptions {
   double tolerance = 1e-9;  ///< Newton stops when the step is below tolerance * (1 + max p) (nondimensional)
   int max_iterations = 60;
+  /// Newton steps in the active-set form min(p, r) = 0 before Fischer-Burmeister takes over.
+  int active_set_iterations = 12;
   bool jacobian = true;  ///< finite bearing: compute d(force)/d(e, de/dt)
 };
 
