@@ -98,12 +98,21 @@ Output create_output(const CommonOptions& common, std::future<Provenance>& prove
   return out;
 }
 
-void describe_signal(h5::Group& g, const SignalInfo& info) {
+/// Time of the last sample of a (windowed) signal, s.
+double window_end_s(const SignalInfo& info) {
+  return info.start_time_s + static_cast<double>(info.size - 1) / info.sample_rate_hz;
+}
+
+/// The signal and the analysis window (`info` describes the samples analysed: the window, if any).
+void describe_signal(h5::Group& g, const SignalInfo& info, const AnalysisWindow& window) {
   g.set_attribute("signal", info.address);
   g.set_attribute("signal_unit", info.unit.empty() ? std::string("unknown") : info.unit);
   g.set_attribute("sample_rate_hz", info.sample_rate_hz);
   g.set_attribute("samples", static_cast<std::int64_t>(info.size));
   g.set_attribute("duration_s", static_cast<double>(info.size) / info.sample_rate_hz);
+  g.set_attribute("window_start_s", info.start_time_s);
+  g.set_attribute("window_end_s", window_end_s(info));
+  g.set_attribute("window_skip_cycles", static_cast<std::int64_t>(window.skip_cycles));
 }
 
 void write_reference(h5::Group& g, const std::string& dataset, const LevelReference& ref, bool psd = false) {
@@ -138,22 +147,35 @@ Eigen::VectorXd to_vector(const std::vector<double>& v) {
 
 class AngleProvider {
  public:
-  AngleProvider(const AngleSource& angle, const SignalInfo& signal, std::int64_t block, const Logger& log) {
+  /// The angle at the samples of `signal` (inside its analysis window, if restricted): always the angle of
+  /// the whole file, so that a window does not move the angle zero of a speed or tacho source.
+  AngleProvider(const AngleSource& angle, const SignalSource& signal, std::int64_t block, const Logger& log) {
+    const SignalInfo& info = signal.info();
     std::string address = angle.address;
-    if (!address.empty() && address[0] == '/') address = signal.file.string() + ":" + address;
+    if (!address.empty() && address[0] == '/') address = info.file.string() + ":" + address;
     source_ = std::make_unique<SignalSource>(SignalSource::open(address));
     const SignalInfo& a = source_->info();
-    if (a.size != signal.size ||
-        std::abs(a.sample_rate_hz - signal.sample_rate_hz) > 1e-9 * signal.sample_rate_hz) {
+    if (a.size != signal.file_size() ||
+        std::abs(a.sample_rate_hz - info.sample_rate_hz) > 1e-9 * info.sample_rate_hz) {
       std::ostringstream msg;
       msg << "orders: the " << angle.kind << " signal '" << a.address << "' (" << a.size << " samples at "
-          << a.sample_rate_hz << " Hz) does not match signal '" << signal.address << "' (" << signal.size
-          << " samples at " << signal.sample_rate_hz << " Hz); they must be sampled together";
+          << a.sample_rate_hz << " Hz) does not match signal '" << info.address << "' (" << signal.file_size()
+          << " samples at " << info.sample_rate_hz << " Hz); they must be sampled together";
       throw Error(msg.str());
     }
     kind_ = angle.kind;
+    first_ = signal.first_sample();
     if (kind_ == "speed") {
       speed_ = std::make_unique<SpeedIntegrator>(a.sample_rate_hz);
+      if (first_ > 0) {  // integrate up to the window: theta(0) = 0 at the file's first sample
+        source_->restrict_to(0, first_);
+        std::vector<double> out;
+        for_each_block(*source_, block, log, "speed before the window",
+                       [&](std::int64_t, std::span<const double> rpm) {
+                         out.resize(rpm.size());
+                         speed_->angle(rpm, out);
+                       });
+      }
     } else if (kind_ == "tacho") {
       tacho_ = std::make_unique<TachoAngle>(a.sample_rate_hz, angle.pulses_per_rev, angle.threshold);
       for_each_block(*source_, block, log, "tacho pulses",
@@ -161,12 +183,13 @@ class AngleProvider {
     } else if (kind_ != "angle") {
       throw Error("orders: angle source '" + kind_ + "': expected angle, speed or tacho");
     }
+    if (kind_ != "tacho") source_->restrict_to(first_, info.size);
   }
 
-  /// Angle (deg) at samples [offset, offset + out.size()); called with consecutive ranges.
+  /// Angle (deg) at samples [offset, offset + out.size()) of the signal; called with consecutive ranges.
   void read(std::int64_t offset, std::span<double> out) {
     if (kind_ == "tacho") {
-      tacho_->angle(offset, out);
+      tacho_->angle(first_ + offset, out);
       return;
     }
     source_->read(offset, out);
@@ -178,17 +201,89 @@ class AngleProvider {
 
  private:
   std::string kind_;
+  std::int64_t first_ = 0;
   std::unique_ptr<SignalSource> source_;
   std::unique_ptr<SpeedIntegrator> speed_;
   std::unique_ptr<TachoAngle> tacho_;
   std::vector<double> buffer_;
 };
 
+// ---------------------------------------------------------------------------------------------
+// Analysis window (docs/postproc.md section 2.1)
+
+/// Restrict `signal` to the analysis window: --start/--end, then --skip-cycles with the shaft angle
+/// (`angle` may be null when the subcommand has none). No-op without a window.
+void apply_window(SignalSource& signal, const AnalysisWindow& window, const AngleSource* angle,
+                  double cycle_deg, std::int64_t block, const Logger& log) {
+  if (!window.active()) return;
+  const SampleRange range =
+      time_window_samples(signal.info(), signal.file_start_time_s(), signal.file_size(), window);
+  signal.restrict_to(range.first, range.count);
+  if (window.skip_cycles <= 0) return;
+  if (!angle) throw Error("--skip-cycles needs a shaft angle; this subcommand has none");
+  AngleProvider provider(*angle, signal, block, log);
+  CycleSkipper skipper(cycle_deg, window.skip_cycles);
+  std::vector<double> a;
+  for (std::int64_t offset = 0; offset < signal.size() && !skipper.found(); offset += block) {
+    a.resize(static_cast<std::size_t>(std::min(block, signal.size() - offset)));
+    provider.read(offset, a);
+    skipper.push(a);
+  }
+  if (!skipper.found() || signal.size() - skipper.sample() < 2) {
+    std::ostringstream msg;
+    msg << "--skip-cycles " << window.skip_cycles << ": signal '" << signal.info().address
+        << "' does not reach the shaft angle " << skipper.target_deg() << " deg (" << window.skip_cycles
+        << " whole cycles of " << cycle_deg << " deg) inside the window; expected fewer cycles to skip";
+    throw Error(msg.str());
+  }
+  signal.restrict_to(range.first + skipper.sample(), range.count - skipper.sample());
+  log.detail(signal.info().name + ": --skip-cycles " + std::to_string(window.skip_cycles) +
+             ": analysis starts at " + std::to_string(signal.info().start_time_s) + " s");
+}
+
+/// The cycles of `all` (tracked over the samples of `read`, a window with margins) lying wholly inside the
+/// samples `window` of `read`; start times shifted to count from the file's first sample.
+OrderSpectra cycles_in_window(const OrderSpectra& all, const SampleRange& window, const SignalSource& read) {
+  const double fs = read.info().sample_rate_hz;
+  const double from = static_cast<double>(window.first) / fs,
+               to = static_cast<double>(window.first + window.count - 1) / fs;
+  // To within a sample: the first sample of a window set by --skip-cycles is the one at or just after the
+  // boundary, so the boundary itself may lie up to one sample before it.
+  const double slack = 1.0 / fs;
+  std::vector<Eigen::Index> keep;
+  for (Eigen::Index c = 0; c < all.rpm.size(); ++c) {
+    const double end = all.start_time_s[c] + 60.0 * (all.cycle_deg / 360.0) / all.rpm[c];  // next boundary
+    if (all.start_time_s[c] >= from - slack && end <= to + slack) keep.push_back(c);
+  }
+  OrderSpectra s = all;
+  const auto n = static_cast<Eigen::Index>(keep.size());
+  s.amplitude.resize(n, all.amplitude.cols());
+  s.phase_deg.resize(n, all.phase_deg.cols());
+  s.rpm.resize(n);
+  s.start_time_s.resize(n);
+  for (Eigen::Index r = 0; r < n; ++r) {
+    s.amplitude.row(r) = all.amplitude.row(keep[r]);
+    s.phase_deg.row(r) = all.phase_deg.row(keep[r]);
+    s.rpm[r] = all.rpm[keep[r]];
+    s.start_time_s[r] = all.start_time_s[keep[r]] + static_cast<double>(read.first_sample()) / fs;
+  }
+  return s;
+}
+
+/// Adds the window to an error of an analysis that the window made too short: the message names the options.
+[[noreturn]] void rethrow_in_window(const Error& e, const AnalysisWindow& window, const SignalSource& s) {
+  if (!window.active()) throw e;
+  std::ostringstream msg;
+  msg << e.what() << " (analysis window " << window.describe() << ": " << s.size() << " samples, "
+      << s.info().start_time_s << " to " << window_end_s(s.info()) << " s; widen the window)";
+  throw Error(msg.str());
+}
+
 /// Samples per cycle from the highest speed of the angle signal (one streamed pass).
 int samples_per_cycle_from(const AngleSource& angle, const SignalSource& signal, const OrderOptions& options,
                            std::int64_t block, const Logger& log) {
   if (options.samples_per_cycle > 0) return options.samples_per_cycle;
-  AngleProvider provider(angle, signal.info(), block, log);
+  AngleProvider provider(angle, signal, block, log);
   const double fs = signal.info().sample_rate_hz;
   double max_speed = 0.0, last = 0.0;
   std::vector<double> a;
@@ -213,11 +308,17 @@ int samples_per_cycle_from(const AngleSource& angle, const SignalSource& signal,
 void run_spectrum(const SpectrumCommand& command, const Logger& log, int argc, const char* const* argv) {
   const CommonOptions& common = command.common;
   std::vector<SignalSource> sources = open_signals(common);
+  for (SignalSource& s : sources) apply_window(s, common.window, nullptr, 0.0, common.block, log);
   std::future<Provenance> provenance = start_provenance(sources, argc, argv);
   std::vector<int> lengths;
-  for (const SignalSource& s : sources)
-    lengths.push_back(
-        segment_length_for(command.options, s.info().sample_rate_hz, s.size(), s.info().address));
+  for (const SignalSource& s : sources) {
+    try {
+      lengths.push_back(
+          segment_length_for(command.options, s.info().sample_rate_hz, s.size(), s.info().address));
+    } catch (const Error& e) {
+      rethrow_in_window(e, common.window, s);
+    }
+  }
   Output out = create_output(common, provenance, "spectrum");
   for (std::size_t i = 0; i < sources.size(); ++i) {
     const SignalInfo& info = sources[i].info();
@@ -239,7 +340,7 @@ void run_spectrum(const SpectrumCommand& command, const Logger& log, int argc, c
     }
 
     h5::Group g = out.root.create_group("spectrum/" + info.name);
-    describe_signal(g, info);
+    describe_signal(g, info, common.window);
     g.write("frequency_hz", f);
     g.set_attribute("units", "Hz", "frequency_hz");
     g.write("amplitude", values);
@@ -283,6 +384,7 @@ void run_octave(const OctaveCommand& command, const Logger& log, int argc, const
   if (command.weighting != "Z" && command.weighting != "A")
     throw Error("octave: weighting '" + command.weighting + "': expected Z (none) or A");
   std::vector<SignalSource> sources = open_signals(common);
+  for (SignalSource& s : sources) apply_window(s, common.window, nullptr, 0.0, common.block, log);
   std::future<Provenance> provenance = start_provenance(sources, argc, argv);
   double fmax = command.fmax_hz;
   if (fmax <= 0.0) {
@@ -303,7 +405,11 @@ void run_octave(const OctaveCommand& command, const Logger& log, int argc, const
       SpectrumOptions o;
       o.type = SpectrumType::kPsd;
       o.resolution_hz = narrowest / 4.0;  // at least 4 bins in the narrowest band
-      fft_lengths.push_back(segment_length_for(o, s.info().sample_rate_hz, s.size(), s.info().address));
+      try {
+        fft_lengths.push_back(segment_length_for(o, s.info().sample_rate_hz, s.size(), s.info().address));
+      } catch (const Error& e) {
+        rethrow_in_window(e, common.window, s);
+      }
     }
   }
   Output out = create_output(common, provenance, "octave");
@@ -341,7 +447,7 @@ void run_octave(const OctaveCommand& command, const Logger& log, int argc, const
     const double overall = energy_sum_db(level.data(), static_cast<int>(nb));
 
     h5::Group g = out.root.create_group("octave/" + info.name);
-    describe_signal(g, info);
+    describe_signal(g, info, common.window);
     g.write("center_hz", center);
     g.set_attribute("units", "Hz", "center_hz");
     g.set_attribute("description", "exact mid-band frequency, IEC 61260-1 base-10", "center_hz");
@@ -398,6 +504,23 @@ void run_octave(const OctaveCommand& command, const Logger& log, int argc, const
 void run_orders(const OrdersCommand& command, const Logger& log, int argc, const char* const* argv) {
   const CommonOptions& common = command.common;
   std::vector<SignalSource> sources = open_signals(common);
+  // The window's samples (`windows`); the tracker reads up to kTrackerMargin samples more on either side,
+  // when the file has them, so that every cycle lying wholly inside the window is analysed (its kernel
+  // reaches 131 samples beyond an angle sample, orders.cpp).
+  constexpr std::int64_t kTrackerMargin = 256;
+  std::vector<SignalInfo> windows;
+  std::vector<SampleRange> in_window;  // the window inside the samples read
+  for (SignalSource& s : sources) {
+    apply_window(s, common.window, &command.angle, command.options.cycle_deg, common.block, log);
+    windows.push_back(s.info());
+    in_window.push_back({0, s.size()});
+    if (common.window.active()) {
+      const std::int64_t first = std::max<std::int64_t>(0, s.first_sample() - kTrackerMargin);
+      const std::int64_t end = std::min(s.file_size(), s.first_sample() + s.size() + kTrackerMargin);
+      in_window.back().first = s.first_sample() - first;
+      s.restrict_to(first, end - first);
+    }
+  }
   std::future<Provenance> provenance = start_provenance(sources, argc, argv);
   std::vector<int> samples_per_cycle;
   for (const SignalSource& s : sources)
@@ -406,33 +529,45 @@ void run_orders(const OrdersCommand& command, const Logger& log, int argc, const
   std::vector<std::unique_ptr<CampbellAccumulator>> campbells;
   for (std::size_t i = 0; i < sources.size(); ++i) {
     const SignalInfo& info = sources[i].info();
-    AngleProvider angle(command.angle, info, common.block, log);
+    AngleProvider angle(command.angle, sources[i], common.block, log);
     OrderTracker tracker(info.sample_rate_hz, command.options, samples_per_cycle[i]);
     std::unique_ptr<CampbellAccumulator> campbell;
     if (command.campbell) {
       int n = 16;
       while (n < info.sample_rate_hz / command.campbell_resolution_hz) n *= 2;
-      if (n > info.size)
-        throw Error("orders: signal '" + info.address + "' is too short for a Campbell frame of " +
-                    std::to_string(n) + " samples; lower --campbell-resolution");
+      if (n > windows[i].size)
+        rethrow_in_window(
+            Error("orders: signal '" + info.address + "' is too short for a Campbell frame of " +
+                  std::to_string(n) + " samples; lower --campbell-resolution"),
+            common.window, sources[i]);
       campbell = std::make_unique<CampbellAccumulator>(
           info.sample_rate_hz, n, std::min(command.campbell_fmax_hz, info.sample_rate_hz / 2),
           command.campbell_rpm_step);
     }
     std::vector<double> a;
-    for_each_block(sources[i], common.block, log, "orders " + info.name,
-                   [&](std::int64_t offset, std::span<const double> x) {
-                     a.resize(x.size());
-                     angle.read(offset, a);
-                     tracker.push(x, a);
-                     if (campbell) campbell->push(x, a);
-                   });
-    results.push_back(tracker.result());
+    for_each_block(
+        sources[i], common.block, log, "orders " + info.name,
+        [&](std::int64_t offset, std::span<const double> x) {
+          a.resize(x.size());
+          angle.read(offset, a);
+          tracker.push(x, a);
+          if (!campbell) return;
+          // The Campbell frames see the window only.
+          const SampleRange w = in_window[i];
+          const std::int64_t from = std::clamp<std::int64_t>(w.first - offset, 0, std::ssize(x));
+          const std::int64_t to = std::clamp<std::int64_t>(w.first + w.count - offset, 0, std::ssize(x));
+          if (to > from)
+            campbell->push(x.subspan(static_cast<std::size_t>(from), static_cast<std::size_t>(to - from)),
+                           std::span<const double>(a).subspan(static_cast<std::size_t>(from),
+                                                              static_cast<std::size_t>(to - from)));
+        });
+    results.push_back(common.window.active() ? cycles_in_window(tracker.result(), in_window[i], sources[i])
+                                             : tracker.result());
     if (results.back().amplitude.rows() == 0) {
       std::ostringstream msg;
       msg << "orders: signal '" << info.address << "' holds no complete " << command.options.cycle_deg
           << " deg cycle of the shaft angle; a longer signal is needed";
-      throw Error(msg.str());
+      rethrow_in_window(Error(msg.str()), common.window, sources[i]);
     }
     campbells.push_back(std::move(campbell));
   }
@@ -448,7 +583,7 @@ void run_orders(const OrdersCommand& command, const Logger& log, int argc, const
       for (Eigen::Index c = 0; c < level.cols(); ++c)
         level(r, c) = level_db(c == 0 ? s.amplitude(r, c) : s.amplitude(r, c) / std::sqrt(2.0), ref);
     h5::Group g = out.root.create_group("orders/" + info.name);
-    describe_signal(g, info);
+    describe_signal(g, windows[i], common.window);
     g.write("order", s.order);
     g.set_attribute("units", "1 (multiples of the shaft speed)", "order");
     g.write("rpm", s.rpm);
@@ -540,6 +675,8 @@ void run_orders(const OrdersCommand& command, const Logger& log, int argc, const
 void run_stats(const StatsCommand& command, const Logger& log, int argc, const char* const* argv) {
   const CommonOptions& common = command.common;
   std::vector<SignalSource> sources = open_signals(common);
+  for (SignalSource& s : sources)
+    apply_window(s, common.window, &command.angle, command.cycle_deg, common.block, log);
   std::future<Provenance> provenance = start_provenance(sources, argc, argv);
   struct Result {
     StatsAccumulator stats;
@@ -557,8 +694,13 @@ void run_stats(const StatsCommand& command, const Logger& log, int argc, const c
       if (command.band_hz->second >= info.sample_rate_hz / 2)
         throw Error("stats: band upper limit " + std::to_string(command.band_hz->second) +
                     " Hz is at or above the Nyquist frequency of '" + info.address + "'");
-      welch = std::make_unique<WelchAccumulator>(
-          info.sample_rate_hz, segment_length_for(o, info.sample_rate_hz, info.size, info.address), o);
+      int n = 0;
+      try {
+        n = segment_length_for(o, info.sample_rate_hz, info.size, info.address);
+      } catch (const Error& e) {
+        rethrow_in_window(e, common.window, sources[i]);
+      }
+      welch = std::make_unique<WelchAccumulator>(info.sample_rate_hz, n, o);
     }
     std::unique_ptr<AngleProvider> angle;
     std::unique_ptr<OrderTracker> tracker;
@@ -568,7 +710,7 @@ void run_stats(const StatsCommand& command, const Logger& log, int argc, const c
       const int m = samples_per_cycle_from(command.angle, sources[i], oo, common.block, log);
       const double top = *std::max_element(command.harmonics.begin(), command.harmonics.end());
       oo.max_order = std::max(top, 0.8 * 0.5 * m * 360.0 / oo.cycle_deg);
-      angle = std::make_unique<AngleProvider>(command.angle, info, common.block, log);
+      angle = std::make_unique<AngleProvider>(command.angle, sources[i], common.block, log);
       tracker = std::make_unique<OrderTracker>(info.sample_rate_hz, oo, m);
     }
     std::vector<double> a;
@@ -585,7 +727,13 @@ void run_stats(const StatsCommand& command, const Logger& log, int argc, const c
     if (welch)
       results[i].band_rms =
           band_rms_from_psd(welch->result(info.unit), command.band_hz->first, command.band_hz->second);
-    if (tracker) results[i].harmonics = harmonics(tracker->result(), command.harmonics);
+    if (tracker) {
+      try {
+        results[i].harmonics = harmonics(tracker->result(), command.harmonics);
+      } catch (const Error& e) {
+        rethrow_in_window(e, common.window, sources[i]);
+      }
+    }
   }
   Output out = create_output(common, provenance, "stats");
   for (std::size_t i = 0; i < sources.size(); ++i) {
@@ -593,7 +741,7 @@ void run_stats(const StatsCommand& command, const Logger& log, int argc, const c
     const Result& r = results[i];
     const std::string unit = info.unit.empty() ? "1" : info.unit;
     h5::Group g = out.root.create_group("stats/" + info.name);
-    describe_signal(g, info);
+    describe_signal(g, info, common.window);
     g.write("mean", r.stats.mean());
     g.set_attribute("units", unit, "mean");
     g.write("rms", r.stats.rms());

@@ -9,6 +9,7 @@
 
 #include "common/log.hpp"
 #include "common/provenance.hpp"
+#include "postproc/analysis_window.hpp"
 #include "postproc/orders.hpp"
 #include "postproc/spectrum.hpp"
 
@@ -25,6 +26,7 @@ struct CommonOptions {
   std::string quantity;  ///< overrides the quantity the unit implies ("" = from the unit)
   std::string velocity_reference = "engine";  ///< "engine" (5e-8 m/s) or "iso" (1e-9 m/s)
   std::int64_t block = 1 << 20;               ///< samples per read
+  AnalysisWindow window;  ///< --start / --end / --skip-cycles (skip_cycles: orders and stats only)
 };
 
 struct SpectrumCommand {

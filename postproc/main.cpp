@@ -40,6 +40,19 @@ void add_common(CLI::App* sub, nvh::postproc::CommonOptions& c, std::string& plo
   sub->add_option("--velocity-reference", c.velocity_reference,
                   "dB reference of velocity: engine (5e-8 m/s, default) or iso (1e-9 m/s, ISO 1683)")
       ->check(CLI::IsMember({"engine", "iso"}));
+  // The analysis window (docs/postproc.md section 2.1): leave out a start transient.
+  sub->add_option_function<double>(
+      "--start", [&c](double t) { c.window.start_s = t; },
+      "analyse from this time, s, on the signal's time axis (default: its first sample)");
+  sub->add_option_function<double>(
+      "--end", [&c](double t) { c.window.end_s = t; },
+      "analyse up to this time, s (default: the signal's last sample)");
+}
+
+void add_skip_cycles(CLI::App* sub, nvh::postproc::CommonOptions& c) {
+  sub->add_option("--skip-cycles", c.window.skip_cycles,
+                  "drop the first N whole cycles (--cycle) of the shaft angle after --start")
+      ->check(CLI::NonNegativeNumber);
 }
 
 void add_angle(CLI::App* sub, nvh::postproc::AngleSource& a) {
@@ -114,6 +127,7 @@ int main(int argc, char** argv) {
       app.add_subcommand("orders", "computed order tracking: order spectra per cycle, cuts, Campbell");
   add_common(r, orders.common, plot_dir, csv_dir);
   add_angle(r, orders.angle);
+  add_skip_cycles(r, orders.common);
   r->add_option("--cycle", orders.options.cycle_deg,
                 "analysis cycle, deg (720: 0.5-order resolution, default)")
       ->check(CLI::PositiveNumber);
@@ -147,6 +161,7 @@ int main(int argc, char** argv) {
   t->add_option("--cycle", stats.cycle_deg, "cycle for the harmonics, deg (default 360: whole orders)")
       ->check(CLI::PositiveNumber);
   add_angle(t, stats.angle);
+  add_skip_cycles(t, stats.common);
 
   try {
     app.parse(argc, argv);

@@ -429,11 +429,13 @@ SignalSource SignalSource::open(const std::string& text) {
   return s;
 }
 
-void SignalSource::read(std::int64_t offset, std::span<double> out) const {
+void SignalSource::read(std::int64_t window_offset, std::span<double> out) const {
   const auto count = static_cast<std::int64_t>(out.size());
-  if (offset < 0 || offset + count > info_.size)
-    throw Error("signal '" + info_.address + "': read of samples [" + std::to_string(offset) + ", " +
-                std::to_string(offset + count) + ") beyond its " + std::to_string(info_.size) + " samples");
+  if (window_offset < 0 || window_offset + count > info_.size)
+    throw Error("signal '" + info_.address + "': read of samples [" + std::to_string(window_offset) + ", " +
+                std::to_string(window_offset + count) + ") beyond its " + std::to_string(info_.size) +
+                " samples");
+  const std::int64_t offset = first_ + window_offset;  // in the file
   if (count == 0) return;
   if (!impl_->dataset.valid()) {
     std::copy_n(impl_->samples.begin() + offset, count, out.begin());
@@ -456,6 +458,20 @@ void SignalSource::read(std::int64_t offset, std::span<double> out) const {
     throw Error("signal '" + info_.address + "': cannot read samples " + std::to_string(offset) + " to " +
                 std::to_string(offset + count - 1) + " (is the dataset numeric?)");
   check_finite(out, offset, info_.address);
+}
+
+void SignalSource::restrict_to(std::int64_t first, std::int64_t count) {
+  if (file_size_ < 0) {
+    file_size_ = info_.size;
+    file_start_s_ = info_.start_time_s;
+  }
+  if (first < 0 || count < 1 || first + count > file_size_)
+    throw Error("signal '" + info_.address + "': window of samples [" + std::to_string(first) + ", " +
+                std::to_string(first + count) + ") is not inside its " + std::to_string(file_size_) +
+                " samples");
+  first_ = first;
+  info_.size = count;
+  info_.start_time_s = file_start_s_ + static_cast<double>(first) / info_.sample_rate_hz;
 }
 
 std::vector<double> SignalSource::read_all() const {

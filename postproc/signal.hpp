@@ -53,6 +53,17 @@ class SignalSource {
   const SignalInfo& info() const { return info_; }
   std::int64_t size() const { return info_.size; }
 
+  /// Restrict the signal to `count` samples from sample `first` of the file (an analysis window,
+  /// docs/postproc.md section 2.1): afterwards size(), info().size and info().start_time_s describe the
+  /// window and read() counts from its first sample. Calls are absolute, not cumulative.
+  void restrict_to(std::int64_t first, std::int64_t count);
+  /// Index in the file of sample 0 (0 unless restricted).
+  std::int64_t first_sample() const { return first_; }
+  /// Number of samples in the file, whatever the restriction.
+  std::int64_t file_size() const { return file_size_ < 0 ? info_.size : file_size_; }
+  /// Time of the file's first sample, s.
+  double file_start_time_s() const { return file_size_ < 0 ? info_.start_time_s : file_start_s_; }
+
   /// Samples [offset, offset + out.size()). A NaN or infinite sample is an error naming the input and
   /// the sample index.
   void read(std::int64_t offset, std::span<double> out) const;
@@ -65,6 +76,9 @@ class SignalSource {
   SignalSource() = default;
   SignalInfo info_;
   std::unique_ptr<Impl> impl_;
+  std::int64_t first_ = 0;       // restriction: first file sample
+  std::int64_t file_size_ = -1;  // samples in the file once restricted (-1: not restricted)
+  double file_start_s_ = 0.0;    // time of the file's first sample once restricted
 };
 
 /// A name usable as an HDF5 group: characters other than letters, digits, '_' and '-' become '_'.
