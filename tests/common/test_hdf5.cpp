@@ -334,6 +334,34 @@ TEST_F(Hdf5Test, AppendableGrowsAndReopens) {
   EXPECT_EQ(in.root().read_matrix("time/history", 7, 3), expected);
 }
 
+TEST_F(Hdf5Test, AppendableVectorGrowsTruncatesAndReopens) {
+  // The 1-D time histories of solve's results: shape (n,), truncated to a checkpoint on restart.
+  const fs::path path = file("vector.h5");
+  {
+    File out = File::create(path);
+    AppendableDataset t = out.root().create_appendable_vector("time");
+    t.append(std::vector<double>{0.0, 0.1, 0.2});
+    t.append(std::vector<double>{0.3, 0.4});
+    EXPECT_EQ(t.rows(), 5u);
+    EXPECT_EQ(t.columns(), 1u);
+    out.commit();
+  }
+  const RawDataset raw = raw_read(path, "/time");
+  EXPECT_EQ(raw.dims, (std::vector<hsize_t>{5}));
+  EXPECT_EQ(raw.max_dims[0], H5S_UNLIMITED);
+  EXPECT_EQ(raw.values, (std::vector<double>{0.0, 0.1, 0.2, 0.3, 0.4}));
+  {  // restart from a checkpoint after 3 samples: the rows after it go, new ones follow
+    File again = File::open_append(path);
+    AppendableDataset t = again.root().open_appendable("time");
+    EXPECT_EQ(t.rows(), 5u);
+    t.truncate(3);
+    t.append(std::vector<double>{0.35});
+    EXPECT_EQ(t.rows(), 4u);
+  }
+  File in = File::open_read(path);
+  EXPECT_EQ(in.root().read_vector("time", 4), (Eigen::VectorXd(4) << 0.0, 0.1, 0.2, 0.35).finished());
+}
+
 TEST_F(Hdf5Test, Attributes) {
   const fs::path path = file("attributes.h5");
   {
@@ -629,7 +657,7 @@ TEST_F(Hdf5ErrorTest, WritingErrors) {
   EXPECT_EQ(error_of([&] { root.create_appendable("bad", 0); }),
             at("/bad") + "an appendable dataset needs at least one column");
   EXPECT_EQ(error_of([&] { root.open_appendable("modes/damping"); }),
-            at("/modes/damping") + "expected an appendable 2-D dataset (unlimited rows), found shape (4,)");
+            at("/modes/damping") + "expected an appendable dataset (unlimited rows), found shape (4,)");
   EXPECT_FALSE(root.exists("bad"));
 }
 
