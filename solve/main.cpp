@@ -97,6 +97,9 @@ int main(int argc, char** argv) {
         << " samples to t = " << s.end_time << " s; " << s.statistics.steps << " steps ("
         << s.statistics.rejected_steps << " rejected), " << s.statistics.newton_iterations << " Newton iterations, "
         << s.statistics.jacobian_evaluations << " Jacobians, " << s.wall_seconds << " s";
+    if (!scene.model.constraints.empty())
+      out << "; constraint drift at most " << s.max_position_drift << " (position), " << s.max_velocity_drift
+          << " (velocity)";
     log.info(out.str());
     return s.status == "complete" ? 0 : static_cast<int>(ExitCode::kInterrupted);
   } catch (const Error& e) {

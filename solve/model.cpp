@@ -418,6 +418,27 @@ void Model::reaction(int ci, const double* y, Vec3& force, Vec3& torque) const {
   torque = ft.tail<3>();
 }
 
+std::pair<double, double> Model::constraint_violation(double t, const double* y) const {
+  if (n_eq_ == 0) return {0.0, 0.0};
+  Eigen::MatrixXd cm;
+  Eigen::VectorXd phi, phi_t;
+  constraint_matrix(t, y, cm, phi, phi_t);
+  Eigen::VectorXd w(n_w_);
+  for (std::size_t b = 0; b < bodies.size(); ++b) {
+    const auto v = velocities(static_cast<int>(b), y);
+    for (std::size_t k = 0; k < v.size(); ++k) w[w_global_offset_[b] + static_cast<int>(k)] = v[k];
+  }
+  const Eigen::VectorXd vel = cm * w + phi_t;
+  double p_max = 0, v_max = 0;
+  for (const auto& c : constraints)
+    for (int e = 0; e < c.constraint->size(); ++e)
+      if (c.active[e]) {
+        p_max = std::max(p_max, std::abs(phi[c.first_row + e]));
+        v_max = std::max(v_max, std::abs(vel[c.first_row + e]));
+      }
+  return {p_max, v_max};
+}
+
 double Model::total_kinetic_energy(const double* y) const {
   double e = 0;
   for (std::size_t b = 0; b < bodies.size(); ++b) e += bodies[b]->kinetic_energy(positions(b, y), velocities(b, y));

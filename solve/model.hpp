@@ -100,6 +100,9 @@ class Model {
   void reaction(int c, const double* y, Vec3& force, Vec3& torque) const;
   double crank_angle(const double* y) const { return clock_index_ >= 0 ? y[clock_index_] : 0.0; }
   double total_kinetic_energy(const double* y) const;
+  /// Largest violation of the active position equations |Phi| (m or rad) and of the velocity equations
+  /// |C w + Phi_t| (m/s or rad/s): the constraint drift.
+  std::pair<double, double> constraint_violation(double t, const double* y) const;
 
   std::span<const double> positions(int b, const double* y) const;
   std::span<const double> velocities(int b, const double* y) const;

@@ -245,4 +245,11 @@ void ResultsWriter::finish(const std::string& status, const std::string& message
   H5Fflush(root.id(), H5F_SCOPE_GLOBAL);
 }
 
+void ResultsWriter::set_drift(double position, double velocity) {
+  h5::Group g = file_->root().open_group("solver/statistics");
+  g.set_attribute("max_position_drift", position);
+  g.set_attribute("max_velocity_drift", velocity);
+  H5Fflush(file_->root().id(), H5F_SCOPE_GLOBAL);
+}
+
 }  // namespace nvh::solve

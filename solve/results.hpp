@@ -40,6 +40,8 @@ class ResultsWriter {
   /// Final status ("complete", "interrupted", "failed"), a message, and the integrator statistics.
   void finish(const std::string& status, const std::string& message, const IntegratorStatistics& stats,
               double wall_seconds);
+  /// The largest constraint drift seen at the checkpoints, as /solver/statistics attributes.
+  void set_drift(double position, double velocity);
 
  private:
   ResultsWriter() = default;

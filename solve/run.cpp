@@ -63,6 +63,9 @@ RunSummary run_scene(Scene& scene, const RunOptions& options, const Provenance& 
     Checkpoint cp;
     cp.time = integrator->time();
     integrator->state(cp.y, cp.yp);
+    const auto [dp, dv] = model.constraint_violation(cp.time, cp.y.data());
+    summary.max_position_drift = std::max(summary.max_position_drift, dp);
+    summary.max_velocity_drift = std::max(summary.max_velocity_drift, dv);
     // Samples up to the integrator's time are written; the next run continues after them.
     writer->flush(cp);
     since_flush = 0;
@@ -126,6 +129,7 @@ RunSummary run_scene(Scene& scene, const RunOptions& options, const Provenance& 
   summary.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   std::string message = summary.status == "complete" ? "" : "stopped by a signal at t = " + std::to_string(summary.end_time) + " s; continue with --restart";
   writer->finish(summary.status, message, summary.statistics, summary.wall_seconds);
+  writer->set_drift(summary.max_position_drift, summary.max_velocity_drift);
   return summary;
 }
 

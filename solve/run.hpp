@@ -23,6 +23,8 @@ struct RunSummary {
   long samples = 0;
   IntegratorStatistics statistics;
   double wall_seconds = 0;
+  double max_position_drift = 0;  // largest |Phi| over the checkpoints (m or rad)
+  double max_velocity_drift = 0;  // largest |C w + Phi_t| over the checkpoints
 };
 
 /// Integrate `scene` and write the results file. Throws nvh::Error on a failed run after marking the file
