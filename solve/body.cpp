@@ -7,6 +7,16 @@ Eigen::Map<const Vec3> vec3(std::span<const double> s, int at) { return Eigen::M
 Eigen::Map<const Vec4> vec4(std::span<const double> s, int at) { return Eigen::Map<const Vec4>(s.data() + at); }
 }  // namespace
 
+void frame_kinematic_residual(std::span<const double> q, std::span<const double> qdot,
+                              std::span<const double> w_eff, double beta, std::span<double> rows) {
+  const Vec4 p = vec4(q, 3);
+  Eigen::Map<Vec3>(rows.data()) = vec3(qdot, 0) - vec3(w_eff, 0);
+  // The constraint p.p = 1 is an invariant of p' = 1/2 L^T omega; the last term makes it attractive
+  // (drift decays at the rate 2 beta) without changing the exact solution.
+  Eigen::Map<Vec4>(rows.data() + 3) =
+      vec4(qdot, 3) - 0.5 * l_matrix(p).transpose() * vec3(w_eff, 3) + beta * (p.squaredNorm() - 1.0) * p;
+}
+
 int Body::find_marker(const std::string& name) const {
   for (std::size_t k = 0; k < markers_.size(); ++k)
     if (markers_[k].name == name) return static_cast<int>(k);
@@ -40,12 +50,7 @@ Eigen::VectorXd RigidBody::initial_velocities() const {
 void RigidBody::kinematic_residual(std::span<const double> q, std::span<const double> qdot,
                                    std::span<const double> w_eff, std::span<const double>,
                                    std::span<double> rows, std::span<double>) const {
-  const Vec4 p = vec4(q, 3);
-  Eigen::Map<Vec3>(rows.data()) = vec3(qdot, 0) - vec3(w_eff, 0);
-  // The constraint p.p = 1 is an invariant of p' = 1/2 L^T omega; the last term makes it attractive
-  // (drift decays at the rate 2 beta) without changing the exact solution.
-  Eigen::Map<Vec4>(rows.data() + 3) = vec4(qdot, 3) - 0.5 * l_matrix(p).transpose() * vec3(w_eff, 3) +
-                                      kNormalizationRate * (p.squaredNorm() - 1.0) * p;
+  frame_kinematic_residual(q, qdot, w_eff, kNormalizationRate, rows);
 }
 
 Eigen::VectorXd RigidBody::position_rates(std::span<const double> q, std::span<const double> w) const {

@@ -122,6 +122,11 @@ class Ground final : public Body {
   double kinetic_energy(std::span<const double>, std::span<const double>) const override { return 0; }
 };
 
+/// The kinematic rows of a floating frame, q = [r (3), p (4), ...], w = [v (3), omega_body (3), ...]:
+/// r' - v and p' - 1/2 L(p)^T omega + beta (p.p - 1) p (rows 0..6). Shared by rigid and flexible bodies.
+void frame_kinematic_residual(std::span<const double> q, std::span<const double> qdot,
+                              std::span<const double> w_eff, double beta, std::span<double> rows);
+
 /// Initial pose and motion of a body (global axes).
 struct InitialState {
   Vec3 position = Vec3::Zero();            // m, of the reference point

@@ -165,11 +165,7 @@ Eigen::VectorXd FlexibleBody::initial_velocities() const {
 void FlexibleBody::kinematic_residual(std::span<const double> q, std::span<const double> qdot,
                                       std::span<const double> w_eff, std::span<const double>,
                                       std::span<double> rows, std::span<double>) const {
-  const Vec4 p = vec4(q, 3);
-  Eigen::Map<Vec3>(rows.data()) = vec3(qdot, 0) - vec3(w_eff, 0);
-  // Stabilized Euler-parameter kinematics, as RigidBody (body.hpp).
-  Eigen::Map<Vec4>(rows.data() + 3) = vec4(qdot, 3) - 0.5 * l_matrix(p).transpose() * vec3(w_eff, 3) +
-                                      kNormalizationRate * (p.squaredNorm() - 1.0) * p;
+  frame_kinematic_residual(q, qdot, w_eff, kNormalizationRate, rows);  // as RigidBody (body.hpp)
   Eigen::Map<Eigen::VectorXd>(rows.data() + 7, n_) = tail(qdot, 7, n_) - tail(w_eff, 6, n_);
 }
 
