@@ -116,13 +116,23 @@ struct BeamGeometry {
   SourceLocation where;
 };
 
+/// A part of a volume mesh with its own material: the elements of a 3D physical group (gmsh) or of an
+/// element set (*ELSET of an .inp).
+struct MaterialRegion {
+  std::string group;     ///< element set name, upper case
+  std::string material;  ///< a name under [material]
+  SourceLocation where;  ///< of its group key, for messages
+  std::string path;      ///< key path of the entry, e.g. "volume.region[2]"
+};
+
 /// A 3D solid component from a mesh made elsewhere (Abaqus/CalculiX .inp: C3D4, C3D10, C3D8, C3D20).
 struct VolumeGeometry {
-  std::filesystem::path mesh;  ///< resolved against the component file's directory
-  std::string material;
-  bool mass_like_calculix = false;  ///< integrate the mass with the stiffness rule, as CalculiX does
-  int order = 2;                    ///< geometry meshed by gmsh: 1 (C3D4) or 2 (C3D10)
-  double size = 0.0;                ///< geometry meshed by gmsh: element size, m (0: the geometry's own)
+  std::filesystem::path mesh;           ///< resolved against the component file's directory
+  std::string material;                 ///< the default: every element in no region
+  std::vector<MaterialRegion> regions;  ///< [[volume.region]]: element sets with their own material
+  bool mass_like_calculix = false;      ///< integrate the mass with the stiffness rule, as CalculiX does
+  int order = 2;                        ///< geometry meshed by gmsh: 1 (C3D4) or 2 (C3D10)
+  double size = 0.0;                    ///< geometry meshed by gmsh: element size, m (0: the geometry's own)
   /// ... or the size from the frequency range: at most 1/n of the shear wavelength at reduction.fmax.
   double elements_per_wavelength = 0.0;
   SourceLocation where;

@@ -251,6 +251,26 @@ void read_volume(const Table& t, Component& c) {
   if (!c.materials.count(v.material)) t.fail("material", "unknown material \"" + v.material + "\"");
   v.mass_like_calculix =
       t.optional_choice("mass_quadrature", {"exact", "stiffness"}).value_or("exact") == "stiffness";
+  // Regions with their own material; whether the group is in the mesh and whether two regions share
+  // an element is checked when the mesh is read (build_volume_model).
+  std::set<std::string> groups;
+  for (const Table& rt : t.table_array("region")) {
+    MaterialRegion r;
+    r.where = rt.location("group");
+    r.path = rt.path();
+    r.group = rt.string("group");
+    if (r.group.empty())
+      rt.fail("group", "expected the name of a 3D physical group or an *ELSET of the mesh");
+    for (char& ch : r.group) ch = static_cast<char>(std::toupper(static_cast<unsigned char>(ch)));
+    if (!groups.insert(r.group).second) {
+      rt.fail("group",
+              "the group \"" + r.group + "\" already has a region (group names are case-insensitive)");
+    }
+    r.material = rt.string("material");
+    if (!c.materials.count(r.material)) rt.fail("material", "unknown material \"" + r.material + "\"");
+    rt.finish();
+    v.regions.push_back(r);
+  }
   t.finish();
 }
 

@@ -173,6 +173,41 @@ void apply_volume_supports(FeModel& model, const Mesh& mesh, const std::vector<b
   }
 }
 
+/// The material of each element (indices into mesh.elements): its region's ([[volume.region]]), or the
+/// component's default. nvh::Error at the region's group key for a group the mesh does not hold (the
+/// message lists its element sets) and for an element that is in two regions.
+std::vector<const Material*> element_materials(const Component& c, const Mesh& mesh) {
+  std::vector<const Material*> materials(mesh.elements.size(), &c.materials.at(c.volume.material));
+  std::vector<int> region_of(mesh.elements.size(), -1);
+  for (std::size_t r = 0; r < c.volume.regions.size(); ++r) {
+    const MaterialRegion& region = c.volume.regions[r];
+    const auto set = mesh.element_sets.find(region.group);
+    if (set == mesh.element_sets.end()) {
+      std::string sets;
+      for (const auto& [name, members] : mesh.element_sets) sets += (sets.empty() ? "" : ", ") + name;
+      throw Error("the element set \"" + region.group + "\" is not in the mesh " + mesh.file +
+                      (sets.empty() ? " (it has no *ELSET or 3D physical group)"
+                                    : " (its element sets: " + sets + ")"),
+                  region.where, region.path + ".group");
+    }
+    for (int e : set->second) {
+      if (region_of[e] >= 0) {
+        throw Error("element " + std::to_string(mesh.elements[e].id) + " is in two regions: \"" +
+                        c.volume.regions[region_of[e]].group + "\" (" + c.volume.regions[region_of[e]].path +
+                        ") and \"" + region.group + "\"; an element takes one material",
+                    region.where, region.path + ".group");
+      }
+      region_of[e] = static_cast<int>(r);
+      materials[e] = &c.materials.at(region.material);
+    }
+  }
+  return materials;
+}
+
+double shear_wave_speed(const Material& m) {
+  return std::sqrt(m.shear_modulus() / m.rho);
+}
+
 double mesh_size(const Component& c) {
   const VolumeGeometry& v = c.volume;
   if (v.elements_per_wavelength <= 0.0) return v.size;
@@ -181,8 +216,10 @@ double mesh_size(const Component& c) {
     throw Error("elements_per_wavelength needs reduction.fmax (the size follows the frequency range)",
                 v.where, "volume.elements_per_wavelength");
   }
-  const Material& m = c.materials.at(v.material);
-  return std::sqrt(m.shear_modulus() / m.rho) / c.reduction.fmax_hz / v.elements_per_wavelength;
+  // With regions, the slowest of the materials sets the size (the mesh is not known yet).
+  double c_s = shear_wave_speed(c.materials.at(v.material));
+  for (const MaterialRegion& r : v.regions) c_s = std::min(c_s, shear_wave_speed(c.materials.at(r.material)));
+  return c_s / c.reduction.fmax_hz / v.elements_per_wavelength;
 }
 
 }  // namespace
@@ -225,8 +262,9 @@ void add_component_masses(FeModel& model) {
 }
 
 FeModel build_volume_model(const Component& c, const Mesh& mesh) {
-  const Material& mat = c.materials.at(c.volume.material);
-  const IsotropicMaterial material{mat.E, mat.nu, mat.rho};
+  // Each element's own material (its region's or the default): stiffness, mass and the position and
+  // component masses all follow from it, element by element.
+  const std::vector<const Material*> materials = element_materials(c, mesh);
 
   FeModel model;
   model.nodes = mesh.nodes;
@@ -252,8 +290,10 @@ FeModel build_volume_model(const Component& c, const Mesh& mesh) {
     for (int b = 0; b < 3; ++b) all[a][b] = true, diagonal[a][b] = a == b;
   BlockAssembler kt(graph, n_nodes, all), mt(graph, n_nodes, diagonal);
   model.position_moment_all = Eigen::MatrixXd::Zero(n_all, 9);
-  for (const MeshElement& e : mesh.elements) {
+  for (std::size_t k = 0; k < mesh.elements.size(); ++k) {
+    const MeshElement& e = mesh.elements[k];
     const SolidType type = parse_solid_type(e.type);
+    const IsotropicMaterial material{materials[k]->E, materials[k]->nu, materials[k]->rho};
     const int n = static_cast<int>(e.nodes.size());
     Eigen::Matrix<double, 3, Eigen::Dynamic> x(3, n);
     for (int i = 0; i < n; ++i) x.col(i) = model.nodes[e.nodes[i]];
