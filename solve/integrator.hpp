@@ -19,7 +19,7 @@ struct IntegratorSettings {
   int max_order = 5;             // IDA
   double rho_inf = 0.8;          // generalized-alpha spectral radius at infinity
   double step = 1e-4;            // generalized-alpha step (s); adapted if `adaptive`
-  bool adaptive = false;         // generalized-alpha step control
+  bool adaptive = true;          // generalized-alpha: halve the step when Newton fails, grow it back
   std::string jacobian = "colored-fd";  // "colored-fd" (sparse) or "dense-fd"
 };
 
