@@ -19,8 +19,8 @@ using testing::signal;
 constexpr double kPi = std::numbers::pi;
 
 // ------------------------------------------------------------------ forced damped oscillator
-// m x'' + c x' + k x = F0 sin(w t): steady state x = X sin(w t - phi), X = F0 / sqrt((k - m w^2)^2 + (c w)^2),
-// tan(phi) = c w / (k - m w^2). Started on the steady state, so the whole run must follow it.
+// m x'' + c x' + k x = F0 sin(w t): steady state x = X sin(w t - phi), X = F0 / sqrt((k - m w^2)^2 + (c
+// w)^2), tan(phi) = c w / (k - m w^2). Started on the steady state, so the whole run must follow it.
 std::string oscillator_scene(const std::string& integrator) {
   // m = 2 kg, k = 8000 N/m (f_n = 10.07 Hz), c = 20 N s/m (zeta = 0.079), F0 = 50 N at 7 Hz.
   const double m = 2, k = 8000, c = 20, f0 = 50, w = 2 * kPi * 7;
@@ -39,8 +39,10 @@ type = "ground"
 name = "mass"
 type = "point-mass"
 mass = 2.0
-position = [0, )" << 1.0 + x0 << R"(, 0]
-velocity = [0, )" << v0 << R"(, 0]
+position = [0, )"
+    << 1.0 + x0 << R"(, 0]
+velocity = [0, )"
+    << v0 << R"(, 0]
   [[body.marker]]
   name = "c"
 [[force]]
@@ -71,7 +73,8 @@ double oscillator_error(const std::filesystem::path& file) {
   const double big_x = f0 / std::hypot(k - m * w * w, c * w), phi = std::atan2(c * w, k - m * w * w);
   const Eigen::VectorXd t = signal(file, "time"), y = signal(file, "markers/mass.c/position", 1);
   double err = 0;
-  for (Eigen::Index i = 0; i < t.size(); ++i) err = std::max(err, std::abs(y[i] - 1.0 - big_x * std::sin(w * t[i] - phi)));
+  for (Eigen::Index i = 0; i < t.size(); ++i)
+    err = std::max(err, std::abs(y[i] - 1.0 - big_x * std::sin(w * t[i] - phi)));
   return err / big_x;
 }
 
@@ -85,9 +88,18 @@ TEST(SolveOscillator, IdaSteadyStateAmplitudeAndPhaseWithin1e6) {
 
 TEST(SolveOscillator, GeneralizedAlphaSecondOrderConvergence) {
   // Second order: halving the step divides the error by about 4 (rho_inf = 0.9).
-  const auto e1 = oscillator_error(run_text(oscillator_scene("[integrator]\nmethod = \"generalized-alpha\"\nstep = 1e-3\nrho_inf = 0.9\nrtol = 1e-10\natol = 1e-12\n"), "osc_ga1"));
-  const auto e2 = oscillator_error(run_text(oscillator_scene("[integrator]\nmethod = \"generalized-alpha\"\nstep = 5e-4\nrho_inf = 0.9\nrtol = 1e-10\natol = 1e-12\n"), "osc_ga2"));
-  const auto e3 = oscillator_error(run_text(oscillator_scene("[integrator]\nmethod = \"generalized-alpha\"\nstep = 2.5e-5\nrho_inf = 0.9\nrtol = 1e-10\natol = 1e-12\n"), "osc_ga3"));
+  const auto e1 =
+      oscillator_error(run_text(oscillator_scene("[integrator]\nmethod = \"generalized-alpha\"\nstep = "
+                                                 "1e-3\nrho_inf = 0.9\nrtol = 1e-10\natol = 1e-12\n"),
+                                "osc_ga1"));
+  const auto e2 =
+      oscillator_error(run_text(oscillator_scene("[integrator]\nmethod = \"generalized-alpha\"\nstep = "
+                                                 "5e-4\nrho_inf = 0.9\nrtol = 1e-10\natol = 1e-12\n"),
+                                "osc_ga2"));
+  const auto e3 =
+      oscillator_error(run_text(oscillator_scene("[integrator]\nmethod = \"generalized-alpha\"\nstep = "
+                                                 "2.5e-5\nrho_inf = 0.9\nrtol = 1e-10\natol = 1e-12\n"),
+                                "osc_ga3"));
   EXPECT_NEAR(std::log2(e1 / e2), 2.0, 0.25) << e1 << " " << e2;
   EXPECT_LT(e3, 1e-5);
 }
@@ -110,7 +122,8 @@ SliderError slider_crank_errors(const std::string& integrator, const std::string
   const auto file = run_text(text, name);
   const double r = 0.05, l = 0.2, w = 3000 * 2 * kPi / 60;
   const Eigen::VectorXd t = signal(file, "time");
-  const Eigen::VectorXd y = signal(file, "markers/piston.pin/position", 1), v = signal(file, "markers/piston.pin/velocity", 1),
+  const Eigen::VectorXd y = signal(file, "markers/piston.pin/position", 1),
+                        v = signal(file, "markers/piston.pin/velocity", 1),
                         a = signal(file, "markers/piston.pin/acceleration", 1);
   const h5::File f = h5::File::open_read(file);
   const Eigen::MatrixXd pin = f.root().read_matrix("markers/crank.pin/position"),
@@ -119,7 +132,8 @@ SliderError slider_crank_errors(const std::string& integrator, const std::string
   for (Eigen::Index i = 0; i < t.size(); ++i) {
     const double ph = w * t[i], sn = std::sin(ph), cs = std::cos(ph), s = std::sqrt(l * l - r * r * sn * sn);
     const double ye = r * cs + s, ve = -r * w * sn - r * r * w * sn * cs / s;
-    const double ae = -r * w * w * cs - r * r * w * w * (cs * cs - sn * sn) / s - std::pow(r, 4) * w * w * sn * sn * cs * cs / std::pow(s, 3);
+    const double ae = -r * w * w * cs - r * r * w * w * (cs * cs - sn * sn) / s -
+                      std::pow(r, 4) * w * w * sn * sn * cs * cs / std::pow(s, 3);
     e.position = std::max(e.position, std::abs(y[i] - ye) / r);
     e.velocity = std::max(e.velocity, std::abs(v[i] - ve) / (r * w));
     e.acceleration = std::max(e.acceleration, std::abs(a[i] - ae) / (r * w * w));
@@ -129,8 +143,10 @@ SliderError slider_crank_errors(const std::string& integrator, const std::string
 
 TEST(SolveSliderCrank, IdaPistonMotionAgainstClosedForm) {
   const SliderError e = slider_crank_errors("[integrator]\nrtol = 1e-9\natol = 1e-11\n", "sc_ida");
-  std::printf("measured: slider-crank IDA: position %.3g r, velocity %.3g r w, acceleration %.3g r w^2, drift %.3g m\n",
-              e.position, e.velocity, e.acceleration, e.drift);
+  std::printf(
+      "measured: slider-crank IDA: position %.3g r, velocity %.3g r w, acceleration %.3g r w^2, drift %.3g "
+      "m\n",
+      e.position, e.velocity, e.acceleration, e.drift);
   EXPECT_LT(e.position, 1e-7);
   EXPECT_LT(e.velocity, 1e-6);
   EXPECT_LT(e.acceleration, 1e-4);
@@ -138,9 +154,12 @@ TEST(SolveSliderCrank, IdaPistonMotionAgainstClosedForm) {
 }
 
 TEST(SolveSliderCrank, GeneralizedAlphaPistonMotionAgainstClosedForm) {
-  const SliderError e = slider_crank_errors("[integrator]\nmethod = \"generalized-alpha\"\nstep = 2e-5\nrtol = 1e-9\natol = 1e-11\n", "sc_ga");
-  std::printf("measured: slider-crank generalized-alpha h 2e-5: position %.3g r, velocity %.3g r w, acceleration %.3g r w^2, drift %.3g m\n",
-              e.position, e.velocity, e.acceleration, e.drift);
+  const SliderError e = slider_crank_errors(
+      "[integrator]\nmethod = \"generalized-alpha\"\nstep = 2e-5\nrtol = 1e-9\natol = 1e-11\n", "sc_ga");
+  std::printf(
+      "measured: slider-crank generalized-alpha h 2e-5: position %.3g r, velocity %.3g r w, acceleration "
+      "%.3g r w^2, drift %.3g m\n",
+      e.position, e.velocity, e.acceleration, e.drift);
   EXPECT_LT(e.position, 1e-5);
   EXPECT_LT(e.velocity, 1e-4);
   EXPECT_LT(e.acceleration, 1e-2);
@@ -157,12 +176,15 @@ struct SpinResult {
 };
 SpinResult spin(const Eigen::Vector3d& omega, const std::string& integrator, const std::string& name) {
   std::ostringstream s;
-  s << "[[body]]\nname = \"box\"\ntype = \"rigid\"\nmass = 1.0\ninertia = [1.0, 2.0, 3.0]\nangular_velocity = ["
-    << omega[0] << ", " << omega[1] << ", " << omega[2] << "]\n[clock]\nend_time = 40.0\n[output]\nsample_rate_hz = 200\n"
+  s << "[[body]]\nname = \"box\"\ntype = \"rigid\"\nmass = 1.0\ninertia = [1.0, 2.0, 3.0]\nangular_velocity "
+       "= ["
+    << omega[0] << ", " << omega[1] << ", " << omega[2]
+    << "]\n[clock]\nend_time = 40.0\n[output]\nsample_rate_hz = 200\n"
     << integrator;
   const auto file = run_text(s.str(), name);
   const h5::File f = h5::File::open_read(file);
-  const Eigen::MatrixXd wg = f.root().read_matrix("bodies/box/angular_velocity"), p = f.root().read_matrix("bodies/box/euler_parameters");
+  const Eigen::MatrixXd wg = f.root().read_matrix("bodies/box/angular_velocity"),
+                        p = f.root().read_matrix("bodies/box/euler_parameters");
   const Eigen::Matrix3d j = Eigen::Vector3d(1, 2, 3).asDiagonal();
   SpinResult r{0, 0, 0, 0};
   double e0 = 0;
@@ -188,14 +210,17 @@ SpinResult spin(const Eigen::Vector3d& omega, const std::string& integrator, con
 
 TEST(SolveRigidBody, IntermediateAxisFlipsConservingEnergyAndMomentum) {
   const SpinResult r = spin({0.0, 2.0, 0.05}, "[integrator]\nrtol = 1e-10\natol = 1e-12\n", "spin_mid_ida");
-  std::printf("measured: intermediate axis: %d flips, energy drift %.3g, momentum drift %.3g\n", r.flips, r.energy_drift, r.momentum_drift);
+  std::printf("measured: intermediate axis: %d flips, energy drift %.3g, momentum drift %.3g\n", r.flips,
+              r.energy_drift, r.momentum_drift);
   EXPECT_GE(r.flips, 4);
   EXPECT_LT(r.energy_drift, 1e-6);
   EXPECT_LT(r.momentum_drift, 1e-6);
 }
 
 TEST(SolveRigidBody, GeneralizedAlphaIntermediateAxis) {
-  const SpinResult r = spin({0.0, 2.0, 0.05}, "[integrator]\nmethod = \"generalized-alpha\"\nstep = 1e-3\nrho_inf = 1.0\n", "spin_mid_ga");
+  const SpinResult r =
+      spin({0.0, 2.0, 0.05}, "[integrator]\nmethod = \"generalized-alpha\"\nstep = 1e-3\nrho_inf = 1.0\n",
+           "spin_mid_ga");
   EXPECT_GE(r.flips, 4);
   EXPECT_LT(r.energy_drift, 1e-4);
   EXPECT_LT(r.momentum_drift, 1e-4);
@@ -261,7 +286,8 @@ TEST(SolveContact, HuntCrossleyRestitutionAgainstClosedForm) {
   const double e_ida = restitution("[integrator]\nrtol = 1e-10\natol = 1e-12\nmax_step = 1e-5\n", "hc_ida");
   std::printf("measured: Hunt-Crossley restitution %.8f against the closed form %.8f\n", e_ida, expected);
   EXPECT_NEAR(e_ida, expected, 1e-5);
-  EXPECT_NEAR(restitution("[integrator]\nmethod = \"generalized-alpha\"\nstep = 1e-6\n", "hc_ga"), expected, 2e-3);
+  EXPECT_NEAR(restitution("[integrator]\nmethod = \"generalized-alpha\"\nstep = 1e-6\n", "hc_ga"), expected,
+              2e-3);
 }
 
 // ------------------------------------------------------------------ numerical damping
@@ -280,66 +306,51 @@ std::complex<double> amplification(std::complex<double> z, double rho) {
   return std::abs(ev[0]) > std::abs(ev[1]) ? ev[0] : ev[1];
 }
 
+// An undamped 5 Hz oscillator (1 kg on a spring, started 10 mm off its rest length) run with the given
+// [integrator] and [output] text; returns its amplitude hypot(x, v/w) at the end over the initial one.
+double undamped_amplitude_ratio(double end_time, const std::string& settings, const std::string& name) {
+  const double w = 2 * kPi * 5;
+  std::ostringstream s;
+  s << "[[body]]\nname = \"ground\"\ntype = \"ground\"\n  [[body.marker]]\n  name = \"a\"\n"
+       "[[body]]\nname = \"m\"\ntype = \"point-mass\"\nmass = 1.0\nposition = [0, 1.01, 0]\n  "
+       "[[body.marker]]\n"
+       "  name = \"c\"\n[[force]]\nname = \"k\"\ntype = \"spring-damper\"\ni = \"m.c\"\nj = \"ground.a\"\nk "
+       "= "
+    << w * w << "\nfree_length = 1.0\n[clock]\nend_time = " << end_time << "\n"
+    << settings;
+  const auto file = run_text(s.str(), name);
+  const Eigen::VectorXd y = signal(file, "markers/m.c/position", 1),
+                        v = signal(file, "markers/m.c/velocity", 1);
+  auto amp = [&](Eigen::Index i) { return std::hypot(y[i] - 1.0, v[i] / w); };
+  return amp(y.size() - 1) / amp(0);
+}
+
 TEST(SolveNumericalDamping, GeneralizedAlphaDecayMatchesItsSpectralRadius) {
-  // Undamped 5 Hz oscillator with steps of 1/40 and 1/20 period; decay over 1 s against |R(i w h)|^N
-  // (amplitude measured as hypot(x, v/w), which the discrete solution keeps up to O((w h)^2)).
+  // Steps of 1/40 and 1/20 period; decay over 1 s against |R(i w h)|^N (amplitude measured as hypot(x, v/w),
+  // which the discrete solution keeps up to O((w h)^2)).
+  const double w = 2 * kPi * 5;
   for (const double h : {0.005, 0.01}) {
     for (const double rho : {0.5, 0.8}) {
-      std::ostringstream s;
-      s << R"(
-[[body]]
-name = "ground"
-type = "ground"
-  [[body.marker]]
-  name = "a"
-[[body]]
-name = "m"
-type = "point-mass"
-mass = 1.0
-position = [0, 1.01, 0]
-  [[body.marker]]
-  name = "c"
-[[force]]
-name = "k"
-type = "spring-damper"
-i = "m.c"
-j = "ground.a"
-k = )" << std::pow(2 * kPi * 5, 2) << R"(
-free_length = 1.0
-[clock]
-end_time = 1.0
-[integrator]
-method = "generalized-alpha"
-rtol = 1e-9
-atol = 1e-12
-step = )" << h << "\nrho_inf = " << rho << "\n[output]\nsample_rate_hz = " << 1 / h << "\n";
-      const auto file = run_text(s.str(), "damping");
-      const Eigen::VectorXd y = signal(file, "markers/m.c/position", 1), v = signal(file, "markers/m.c/velocity", 1);
-      const double w = 2 * kPi * 5;
-      auto amp = [&](Eigen::Index i) { return std::hypot(y[i] - 1.0, v[i] / w); };
-      const long n = std::lround(1.0 / h);
-      const double expected = std::pow(std::abs(amplification({0, w * h}, rho)), n);
-      EXPECT_NEAR(amp(y.size() - 1) / amp(0), expected, 2e-3 + 0.01 * expected) << "h " << h << " rho " << rho;
+      std::ostringstream settings;
+      settings << "[integrator]\nmethod = \"generalized-alpha\"\nrtol = 1e-9\natol = 1e-12\nstep = " << h
+               << "\nrho_inf = " << rho << "\n[output]\nsample_rate_hz = " << 1 / h << "\n";
+      const double ratio = undamped_amplitude_ratio(1.0, settings.str(), "damping");
+      const double expected = std::pow(std::abs(amplification({0, w * h}, rho)), std::lround(1.0 / h));
+      EXPECT_NEAR(ratio, expected, 2e-3 + 0.01 * expected) << "h " << h << " rho " << rho;
     }
   }
 }
 
 TEST(SolveNumericalDamping, BdfOrderOneDampsFarMoreThanOrderFive) {
   // BDF1 (backward Euler) dissipates |1 / (1 - i w h)| per step; BDF5 almost nothing at the same accuracy.
-  auto decay = [&](int order) {
-    std::ostringstream s;
-    s << "[[body]]\nname = \"ground\"\ntype = \"ground\"\n  [[body.marker]]\n  name = \"a\"\n"
-         "[[body]]\nname = \"m\"\ntype = \"point-mass\"\nmass = 1.0\nposition = [0, 1.01, 0]\n  [[body.marker]]\n  name = \"c\"\n"
-         "[[force]]\nname = \"k\"\ntype = \"spring-damper\"\ni = \"m.c\"\nj = \"ground.a\"\nk = " << std::pow(2 * kPi * 5, 2)
-      << "\nfree_length = 1.0\n[clock]\nend_time = 2.0\n[integrator]\nrtol = 1e-4\natol = 1e-6\nmax_order = " << order
-      << "\n[output]\nsample_rate_hz = 1000\n";
-    const auto file = run_text(s.str(), "bdf" + std::to_string(order));
-    const Eigen::VectorXd y = signal(file, "markers/m.c/position", 1), v = signal(file, "markers/m.c/velocity", 1);
-    const double w = 2 * kPi * 5;
-    return std::hypot(y[y.size() - 1] - 1.0, v[v.size() - 1] / w) / 0.01;
+  auto loss = [&](int order) {
+    const std::string settings =
+        "[integrator]\nrtol = 1e-4\natol = 1e-6\nmax_order = " + std::to_string(order) +
+        "\n[output]\nsample_rate_hz = 1000\n";
+    return 1 - undamped_amplitude_ratio(2.0, settings, "bdf" + std::to_string(order));
   };
-  const double d1 = 1 - decay(1), d5 = 1 - decay(5);
-  EXPECT_GT(d1, 0.01);       // order 1 loses more than 1 % of the amplitude in 10 periods
+  const double d1 = loss(1), d5 = loss(5);
+  EXPECT_GT(d1, 0.01);  // order 1 loses more than 1 % of the amplitude in 10 periods
   EXPECT_GT(d1, 10 * std::abs(d5));
 }
 
