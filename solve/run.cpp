@@ -13,6 +13,12 @@ namespace nvh::solve {
 
 RunSummary run_scene(Scene& scene, const RunOptions& options, const Provenance& provenance, const Logger& log) {
   const auto wall_start = std::chrono::steady_clock::now();
+  // From here a signal only sets a flag: the results file, once created, is always left with a status the
+  // loop below writes ("interrupted" with a checkpoint), never "running" without one.
+  struct GracefulInterrupts {
+    GracefulInterrupts() { set_graceful_interrupt(true); }
+    ~GracefulInterrupts() { set_graceful_interrupt(false); }
+  } graceful;
   Model& model = scene.model;
   Eigen::VectorXd y, yp;
   double t0 = scene.start_time;
@@ -53,7 +59,6 @@ RunSummary run_scene(Scene& scene, const RunOptions& options, const Provenance& 
   long k = first_sample;
   auto sample_time = [&](long i) { return scene.start_time + static_cast<double>(i) * dt; };
 
-  set_graceful_interrupt(true);
   const std::int64_t total = by_angle ? static_cast<std::int64_t>(scene.end_angle_deg) : std::int64_t(1000);
   Progress progress(log, "solve", total, options.progress);
   RunSummary summary;
@@ -116,13 +121,11 @@ RunSummary run_scene(Scene& scene, const RunOptions& options, const Provenance& 
     summary.statistics = integrator->statistics();
     writer->finish("failed", e.what(), summary.statistics,
                    std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count());
-    set_graceful_interrupt(false);
     throw Error(std::string(e.what()) + " (the " + std::to_string(k) + " samples before are kept in " +
                 options.output.string() + ")");
   }
   checkpoint();
   progress.finish();
-  set_graceful_interrupt(false);
   summary.end_time = integrator->time();
   summary.samples = k;
   summary.statistics = integrator->statistics();

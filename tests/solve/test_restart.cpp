@@ -30,6 +30,10 @@ TEST(SolveRestart, InterruptedAndRestartedRunEqualsAnUninterruptedOne) {
   // Stop the second run part-way with SIGTERM, then continue it.
   const int stopped = std::system(
       ("timeout --preserve-status -s TERM 0.5 " + solve + scene.string() + " -o " + parts.string() + " -q 2>/dev/null").c_str());
+  if (!std::filesystem::exists(parts)) {  // the signal came before the results file existed: nothing to restart
+    EXPECT_EQ(WEXITSTATUS(stopped), 3);
+    GTEST_SKIP() << "the signal arrived before the run created its output (machine too slow for 0.5 s)";
+  }
   {
     const h5::File f = h5::File::open_read(parts);
     const std::string status = f.root().string_attribute("status");
