@@ -248,6 +248,7 @@ Superelement condense_component(const Component& c, EigenBackend backend, const 
   se.order_seconds = r.factor.order_seconds;
   se.factor_seconds = r.factor.factor_seconds;
   se.eigen_seconds = r.eigen_seconds;
+  se.eigen_solves = r.eigen_solves;
   if (run.mesh_export && volume) {
     *run.mesh_export =
         make_mesh_export(mesh, shapes, se.coordinates,

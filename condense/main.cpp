@@ -73,7 +73,8 @@ std::string run_report(const nvh::StageTimer& timer, const nvh::condense::Supere
     out.precision(3);
     out << "\n  factor: " << se.factor_ordering << " ordering, nnz(L) " << se.factor_nonzeros << " = "
         << se.factor_nonzeros / se.matrix_nonzeros << " x nnz(tril A), " << se.factor_flops / 1e9
-        << " Gflop, " << se.factorizations << " factorization" << (se.factorizations == 1 ? "" : "s");
+        << " Gflop, " << se.factorizations << " factorization" << (se.factorizations == 1 ? "" : "s") << ", "
+        << se.eigen_solves << " solves";
   }
   return out.str();
 }

@@ -88,6 +88,7 @@ ReducedModel modal_reduction(const ReductionInput& in, const Logger& log) {
   r.max_residual = eig.residuals.size() ? eig.residuals.maxCoeff() : 0.0;
   r.factor = eig.factor;
   r.eigen_seconds = eig.iteration_seconds;
+  r.eigen_solves = eig.matrix_operations;
   log.detail("modal: " + std::to_string(m) + " elastic modes, " + hz(r.frequency_hz(0)) + " .. " +
              hz(r.frequency_hz(m - 1)));
   return r;
@@ -137,6 +138,7 @@ ReducedModel craig_bampton(const ReductionInput& in, bool with_fixed_interface_m
   Eigen::VectorXd fixed_hz;
   double max_residual = 0.0;
   double eigen_seconds = 0.0;
+  int eigen_solves = 0;
   if (with_fixed_interface_modes && ni > 0) {
     const SparseMatrix Mii = submatrix(M, i_dofs, i_dofs);
     EigenRequest request = request_for(s, 0, in);
@@ -158,6 +160,7 @@ ReducedModel craig_bampton(const ReductionInput& in, bool with_fixed_interface_m
     max_residual = eig.residuals.size() ? eig.residuals.maxCoeff() : 0.0;
     factor.add(eig.factor);
     eigen_seconds = eig.iteration_seconds;
+    eigen_solves = eig.matrix_operations;
   }
   chol.reset();
   const int nm = static_cast<int>(phi.cols());
@@ -167,6 +170,7 @@ ReducedModel craig_bampton(const ReductionInput& in, bool with_fixed_interface_m
   r.max_residual = max_residual;
   r.factor = factor;
   r.eigen_seconds = eigen_seconds;
+  r.eigen_solves = eigen_solves;
   r.basis = Eigen::MatrixXd::Zero(n, nb + nm);
   for (int j = 0; j < nb; ++j) r.basis(b[j], j) = 1.0;
   for (int i = 0; i < ni; ++i) {

@@ -58,6 +58,8 @@ struct ReducedModel {
   FactorStats factor;
   /// Wall time of the eigen-solves' iterations (without their factorizations), s.
   double eigen_seconds = 0.0;
+  /// Solves with the factorization in the eigen-solves (each streams the whole factor).
+  int eigen_solves = 0;
 };
 
 /// nvh::Error when fmax lies below the first (elastic or fixed-interface) mode, the interior is not

@@ -196,6 +196,7 @@ void write_superelement(const std::filesystem::path& path, const Superelement& s
     model.set_attribute("factor_fill", se.factor_nonzeros / se.matrix_nonzeros);
     model.set_attribute("factor_flops", se.factor_flops);
     model.set_attribute("factorizations", static_cast<std::int64_t>(se.factorizations));
+    model.set_attribute("eigen_solves", static_cast<std::int64_t>(se.eigen_solves));
   }
   file.commit();
 }
@@ -297,6 +298,8 @@ Superelement read_superelement(const std::filesystem::path& path) {
     se.factor_nonzeros = model.double_attribute("factor_nonzeros");
     se.factor_flops = model.double_attribute("factor_flops");
     se.factorizations = static_cast<int>(model.int_attribute("factorizations"));
+    if (model.has_attribute("eigen_solves"))
+      se.eigen_solves = static_cast<int>(model.int_attribute("eigen_solves"));
   }
   return se;
 }

@@ -79,6 +79,7 @@ struct Superelement {
   double order_seconds = 0.0;   ///< ordering and symbolic analysis of the factorizations
   double factor_seconds = 0.0;  ///< their numeric factorization
   double eigen_seconds = 0.0;   ///< Lanczos iterations (or the dense eigen-solve)
+  int eigen_solves = 0;         ///< solves with the factorization in the Lanczos iterations
 
   int size() const { return static_cast<int>(mass.rows()); }
 };
