@@ -173,16 +173,14 @@ Superelement condense_component(const Component& c, EigenBackend backend, const 
   } else {
     observer_nodes = locate(model, c.observers, c.point_tolerance, "observation");
   }
-  const SparseMatrix K = model.stiffness();
-  const SparseMatrix M = model.mass();
+  ReductionInput in;
+  in.stiffness = model.stiffness();
+  in.mass = model.mass();
   if (volume) model.stiffness_all = SparseMatrix();  // not needed again: free it before the factorization
   log.info("model: " + std::to_string(model.nodes.size()) + " nodes, " + std::to_string(model.element_count) +
            " " + model.element_kind + ", " + std::to_string(model.free_dofs()) + " free DOF");
   if (timer) timer->lap("assemble");
 
-  ReductionInput in;
-  in.stiffness = &K;
-  in.mass = &M;
   in.settings = c.reduction;
   in.backend = backend;
   in.progress = run.progress;
@@ -194,7 +192,7 @@ Superelement condense_component(const Component& c, EigenBackend backend, const 
            " DOF (" + std::to_string(in.boundary_dofs.size()) + " interface DOF, " +
            std::to_string(in.rigid_body_modes) + " rigid-body modes, eigen-solver " + to_string(backend) +
            ")");
-  const ReducedModel r = reduce(in, log);
+  const ReducedModel r = reduce(std::move(in), log);
   if (timer) timer->lap("reduce");
 
   const Eigen::MatrixXd shapes = model.transform * r.basis;  // 6N x n nodal shapes

@@ -15,6 +15,7 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <string>
 
@@ -63,12 +64,17 @@ struct EigenResult {
   int matrix_operations = 0;       ///< number of solves with the factorization (cost measure)
   FactorStats factor;              ///< ordering, fill and time of the factorization(s) (none for kDense)
   double iteration_seconds = 0.0;  ///< wall time of the Lanczos runs (or of the dense solve)
+  /// fmax requests: the lowest eigenvalue found above fmax (NaN if none was), for messages such as
+  /// "fmax lies below the first mode at ... Hz".
+  double next_eigenvalue = std::numeric_limits<double>::quiet_NaN();
 };
 
-/// Lowest eigenpairs of K x = lambda M x. Throws nvh::Error if the factorization fails (K - sigma M not
-/// positive definite: M not positive definite), the iteration does not converge, a residual exceeds the
-/// limit, or the request asks for more modes than the problem has.
-EigenResult solve_eigenproblem(const SparseMatrix& K, const SparseMatrix& M, const EigenRequest& request);
+/// Lowest eigenpairs of K x = lambda M x, K and M full symmetric (both triangles stored). Throws
+/// nvh::Error if the factorization fails (K - sigma M not positive definite: M not positive definite),
+/// the iteration does not converge, a residual exceeds the limit, or the request asks for more modes
+/// than the problem has. K and M are taken by value: a caller that needs them no more moves them in,
+/// and their storage is given back before the factorization (which sets the peak memory of large models).
+EigenResult solve_eigenproblem(SparseMatrix K, SparseMatrix M, const EigenRequest& request);
 
 /// Frequency in Hz of an eigenvalue lambda = omega^2 (negative round-off gives 0).
 double frequency_hz(double eigenvalue);

@@ -6,6 +6,7 @@
 #include <memory>
 #include <sstream>
 
+#include "common/blas_kernels.hpp"
 #include "common/error.hpp"
 #include "common/interrupt.hpp"
 #include "common/log.hpp"
@@ -74,7 +75,7 @@ std::string run_report(const nvh::StageTimer& timer, const nvh::condense::Supere
     out << "\n  factor: " << se.factor_ordering << " ordering, nnz(L) " << se.factor_nonzeros << " = "
         << se.factor_nonzeros / se.matrix_nonzeros << " x nnz(tril A), " << se.factor_flops / 1e9
         << " Gflop, " << se.factorizations << " factorization" << (se.factorizations == 1 ? "" : "s") << ", "
-        << se.eigen_solves << " solves";
+        << se.eigen_solves << " solves; BLAS: " << nvh::blas_kernels();
   }
   return out.str();
 }
@@ -85,6 +86,7 @@ int main(int argc, char** argv) {
   using namespace nvh;
   using namespace nvh::condense;
 
+  select_blas_kernels(argv);  // may re-execute condense with OpenBLAS's right kernels (blas_kernels.hpp)
   install_interrupt_handler("condense");
   CLI::App app{kDescription, "condense"};
   app.get_formatter()->column_width(34);
@@ -192,6 +194,7 @@ int main(int argc, char** argv) {
       se.stage_seconds.push_back(seconds);
     }
     se.peak_memory_bytes = static_cast<double>(peak_memory_bytes());
+    se.blas_kernels = blas_kernels();
     // Every input is hashed: the component file, and a volume component's mesh.
     std::vector<std::filesystem::path> inputs{component_file};
     if (component.kind == "volume") inputs.push_back(component.volume.mesh);

@@ -58,20 +58,15 @@ Eigen::MatrixXd modal_damping(const Eigen::MatrixXd& mass, const Eigen::MatrixXd
   return mx * (2.0 * zeta * omega).asDiagonal() * mx.transpose();
 }
 
-ReducedModel modal_reduction(const ReductionInput& in, const Logger& log) {
+ReducedModel modal_reduction(ReductionInput& in, const Logger& log) {
   const ReductionSettings& s = in.settings;
   const int rigid = in.rigid_body_modes;
-  EigenResult eig = solve_eigenproblem(*in.stiffness, *in.mass, request_for(s, rigid, in));
+  EigenResult eig = solve_eigenproblem(std::move(in.stiffness), std::move(in.mass), request_for(s, rigid, in));
   const int found = static_cast<int>(eig.eigenvalues.size());
   if (found <= rigid) {
-    // Nothing elastic below fmax: find the first elastic mode to say where it is.
-    EigenRequest first;
-    first.backend = in.backend;
-    first.modes = rigid + 1;
-    const EigenResult one = solve_eigenproblem(*in.stiffness, *in.mass, first);
+    // Nothing elastic below fmax: the eigen-solve found the first elastic mode above it.
     throw Error("fmax = " + hz(s.fmax_hz) + " is below the first elastic mode (" +
-                    hz(frequency_hz(one.eigenvalues(rigid))) +
-                    "): no mode to keep; raise fmax or give modes = N",
+                    hz(frequency_hz(eig.next_eigenvalue)) + "): no mode to keep; raise fmax or give modes = N",
                 s.where, s.where_key);
   }
   const int m = found - rigid;
@@ -96,8 +91,8 @@ ReducedModel modal_reduction(const ReductionInput& in, const Logger& log) {
 
 ReducedModel craig_bampton(const ReductionInput& in, bool with_fixed_interface_modes, const Logger& log) {
   const ReductionSettings& s = in.settings;
-  const SparseMatrix& K = *in.stiffness;
-  const SparseMatrix& M = *in.mass;
+  const SparseMatrix& K = in.stiffness;
+  const SparseMatrix& M = in.mass;
   const int n = static_cast<int>(K.rows());
   if (in.boundary_dofs.empty()) {
     throw Error(to_string(s.method) +
@@ -116,7 +111,7 @@ ReducedModel craig_bampton(const ReductionInput& in, bool with_fixed_interface_m
   // Constraint modes: K_ii Psi = -K_ib, one factorization, nb right-hand sides. K_ii is positive
   // definite when the interface restrains the interior, so the fixed-interface eigen-solve runs on the
   // same factorization (shift 0): one factorization for both.
-  const SparseMatrix Kii = submatrix(K, i_dofs, i_dofs);
+  SparseMatrix Kii = submatrix(K, i_dofs, i_dofs);
   const SparseMatrix Kib = submatrix(K, i_dofs, b);
   Eigen::MatrixXd psi(ni, nb);
   FactorStats factor;
@@ -140,18 +135,12 @@ ReducedModel craig_bampton(const ReductionInput& in, bool with_fixed_interface_m
   double eigen_seconds = 0.0;
   int eigen_solves = 0;
   if (with_fixed_interface_modes && ni > 0) {
-    const SparseMatrix Mii = submatrix(M, i_dofs, i_dofs);
     EigenRequest request = request_for(s, 0, in);
     request.stiffness_factor = chol;
-    const EigenResult eig = solve_eigenproblem(Kii, Mii, request);
+    const EigenResult eig = solve_eigenproblem(std::move(Kii), submatrix(M, i_dofs, i_dofs), request);
     if (eig.eigenvalues.size() == 0) {
-      EigenRequest first;
-      first.backend = in.backend;
-      first.modes = 1;
-      first.stiffness_factor = chol;
-      const EigenResult one = solve_eigenproblem(Kii, Mii, first);
       throw Error("fmax = " + hz(s.fmax_hz) + " is below the first fixed-interface mode (" +
-                      hz(frequency_hz(one.eigenvalues(0))) +
+                      hz(frequency_hz(eig.next_eigenvalue)) +
                       "): no mode to keep; raise fmax, give modes = N, or use method = \"guyan\"",
                   s.where, s.where_key);
     }
@@ -221,7 +210,7 @@ void finish_reduced(ReducedModel& r, const ReductionInput& in) {
 
 }  // namespace
 
-ReducedModel reduce(const ReductionInput& in, const Logger& log) {
+ReducedModel reduce(ReductionInput in, const Logger& log) {
   switch (in.settings.method) {
     case ReductionMethod::kModal:
       return modal_reduction(in, log);

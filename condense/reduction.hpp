@@ -25,8 +25,11 @@
 namespace nvh::condense {
 
 struct ReductionInput {
-  const SparseMatrix* stiffness = nullptr;  ///< K on the free DOF
-  const SparseMatrix* mass = nullptr;       ///< M on the free DOF
+  /// K and M on the free DOF. The modal reduction hands them to the eigen-solve, which gives their
+  /// storage back before its factorization (large solids: the peak memory); reduce() takes the input
+  /// by value for that.
+  SparseMatrix stiffness;
+  SparseMatrix mass;
   std::vector<int> boundary_dofs;           ///< free-DOF indices kept physical (Craig-Bampton, Guyan)
   std::vector<std::string> boundary_names;  ///< one per boundary DOF, e.g. "main1.rx"
   int rigid_body_modes = 0;                 ///< how many zero-frequency modes the unsupported model has
@@ -64,6 +67,6 @@ struct ReducedModel {
 
 /// nvh::Error when fmax lies below the first (elastic or fixed-interface) mode, the interior is not
 /// restrained by the boundary DOF (a mechanism), or a method needs interfaces that the model lacks.
-ReducedModel reduce(const ReductionInput& input, const Logger& log);
+ReducedModel reduce(ReductionInput input, const Logger& log);
 
 }  // namespace nvh::condense

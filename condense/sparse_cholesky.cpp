@@ -69,9 +69,21 @@ void FactorStats::add(const FactorStats& other) {
   factorizations += other.factorizations;
 }
 
-/// Eigen's CHOLMOD wrapper, opened up for CHOLMOD's factor (the failing column, L->minor).
+/// Eigen's CHOLMOD wrapper, opened up for CHOLMOD's factor (the failing column, L->minor; solves with
+/// parts of the factorization).
 struct SparseCholesky::Impl : Eigen::CholmodSupernodalLLT<SparseMatrix, Eigen::Lower> {
   bool analysed = false;
+  /// x = the solution of CHOLMOD system `sys` (CHOLMOD_L: L x = b, CHOLMOD_Lt: L^T x = b, CHOLMOD_P:
+  /// x = P b, CHOLMOD_Pt: x = P^T b) for the columns of b.
+  Eigen::MatrixXd solve_system(int sys, const Eigen::MatrixXd& b) {
+    Eigen::MatrixXd& input = const_cast<Eigen::MatrixXd&>(b);  // CHOLMOD's view is non-const; not written
+    cholmod_dense view = Eigen::viewAsCholmod(input);
+    cholmod_dense* x = cholmod_solve(sys, m_cholmodFactor, &view, &cholmod());
+    if (x == nullptr) throw Error("CHOLMOD could not solve with the factor (out of memory?)");
+    Eigen::MatrixXd result = Eigen::Map<const Eigen::MatrixXd>(static_cast<const double*>(x->x), b.rows(), b.cols());
+    cholmod_free_dense(&x, &cholmod());
+    return result;
+  }
   Eigen::Index failed_dof() const {
     if (m_cholmodFactor == nullptr) return -1;
     const auto minor = static_cast<Eigen::Index>(m_cholmodFactor->minor);
@@ -125,6 +137,14 @@ void SparseCholesky::solve(const double* b, double* x) const {
 
 Eigen::MatrixXd SparseCholesky::solve(const Eigen::MatrixXd& b) const {
   return impl_->solve(b);
+}
+
+Eigen::MatrixXd SparseCholesky::forward(const Eigen::MatrixXd& b) const {
+  return impl_->solve_system(CHOLMOD_L, impl_->solve_system(CHOLMOD_P, b));
+}
+
+Eigen::MatrixXd SparseCholesky::backward(const Eigen::MatrixXd& b) const {
+  return impl_->solve_system(CHOLMOD_Pt, impl_->solve_system(CHOLMOD_Lt, b));
 }
 
 Eigen::Index SparseCholesky::failed_dof() const {

@@ -50,6 +50,11 @@ class SparseCholesky {
   void solve(const double* b, double* x) const;
   /// ... and for many.
   Eigen::MatrixXd solve(const Eigen::MatrixXd& b) const;
+  /// The two halves of a solve, A^-1 = (P^T L^-T) (L^-1 P): forward(b) = L^-1 P b and
+  /// backward(b) = P^T L^-T b. The shift-invert eigen-solve works on L^-1 P M P^T L^-T, symmetric in
+  /// the ordinary inner product (eigensolver.cpp).
+  Eigen::MatrixXd forward(const Eigen::MatrixXd& b) const;
+  Eigen::MatrixXd backward(const Eigen::MatrixXd& b) const;
   /// The DOF (original numbering) where the last factorization broke down, -1 if unknown.
   Eigen::Index failed_dof() const;
   /// Costs so far (one analysis, every factorization).

@@ -188,6 +188,7 @@ void write_superelement(const std::filesystem::path& path, const Superelement& s
     model.set_attribute("stage_names", se.stage_names);
     model.set_attribute("stage_seconds", se.stage_seconds);
     model.set_attribute("peak_memory_bytes", se.peak_memory_bytes);
+    if (!se.blas_kernels.empty()) model.set_attribute("blas_kernels", se.blas_kernels);
   }
   if (!se.factor_ordering.empty()) {
     model.set_attribute("factor_ordering", se.factor_ordering);
@@ -291,6 +292,7 @@ Superelement read_superelement(const std::filesystem::path& path) {
     se.stage_names = model.strings_attribute("stage_names");
     se.stage_seconds = model.doubles_attribute("stage_seconds");
     se.peak_memory_bytes = model.double_attribute("peak_memory_bytes");
+    if (model.has_attribute("blas_kernels")) se.blas_kernels = model.string_attribute("blas_kernels");
   }
   if (model.has_attribute("factor_ordering")) {
     se.factor_ordering = model.string_attribute("factor_ordering");

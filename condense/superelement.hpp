@@ -69,6 +69,7 @@ struct Superelement {
   std::vector<std::string> stage_names;
   std::vector<double> stage_seconds;
   double peak_memory_bytes = 0.0;
+  std::string blas_kernels;  ///< the BLAS kernels under the factorization (common/blas_kernels.hpp)
   /// The sparse factorizations (empty ordering: none, e.g. a small model solved dense): the ordering,
   /// nnz of the matrix's lower triangle and of the largest factor L, its flops, their count.
   std::string factor_ordering;
