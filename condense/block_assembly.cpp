@@ -64,4 +64,14 @@ BlockAssembler::BlockAssembler(const NodeGraph& graph, int total_nodes,
   std::fill(matrix_.valuePtr(), matrix_.valuePtr() + k, 0.0);
 }
 
+NodeAssembler::NodeAssembler(const NodeGraph& graph, int total_nodes) {
+  const int graph_nodes = static_cast<int>(graph.start.size()) - 1;
+  matrix_.resize(total_nodes, total_nodes);
+  matrix_.resizeNonZeros(static_cast<Eigen::Index>(graph.neighbours.size()));
+  int* outer = matrix_.outerIndexPtr();
+  for (int n = 0; n <= total_nodes; ++n) outer[n] = graph.start[std::min(n, graph_nodes)];
+  std::copy(graph.neighbours.begin(), graph.neighbours.end(), matrix_.innerIndexPtr());
+  std::fill(matrix_.valuePtr(), matrix_.valuePtr() + graph.neighbours.size(), 0.0);
+}
+
 }  // namespace nvh::condense

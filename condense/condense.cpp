@@ -173,9 +173,12 @@ Superelement condense_component(const Component& c, EigenBackend backend, const 
   } else {
     observer_nodes = locate(model, c.observers, c.point_tolerance, "observation");
   }
-  const SparseMatrix K = model.stiffness();
-  const SparseMatrix M = model.mass();
-  if (volume) model.stiffness_all = SparseMatrix();  // not needed again: free it before the factorization
+  // The free-DOF matrices; what the reduction does not need is freed before it runs (its factorization
+  // sets the peak memory): the nodal stiffness, and the mesh unless it is exported.
+  SparseMatrix K = model.stiffness();
+  release(model.stiffness_all);
+  SparseMatrix M = model.mass();
+  if (!run.mesh_export) mesh = Mesh();
   log.info("model: " + std::to_string(model.nodes.size()) + " nodes, " + std::to_string(model.element_count) +
            " " + model.element_kind + ", " + std::to_string(model.free_dofs()) + " free DOF");
   if (timer) timer->lap("assemble");
@@ -195,6 +198,8 @@ Superelement condense_component(const Component& c, EigenBackend backend, const 
            std::to_string(in.rigid_body_modes) + " rigid-body modes, eigen-solver " + to_string(backend) +
            ")");
   const ReducedModel r = reduce(in, log);
+  release(K);
+  release(M);
   if (timer) timer->lap("reduce");
 
   const Eigen::MatrixXd shapes = model.transform * r.basis;  // 6N x n nodal shapes
@@ -232,7 +237,6 @@ Superelement condense_component(const Component& c, EigenBackend backend, const 
     }
     se.surface = std::move(s);
   }
-  if (volume) add_component_masses(model);
   se.inertia = rigid_body_inertia(model);
   se.invariants = modal_invariants(model, shapes);
   se.node_count = static_cast<int>(model.nodes.size());

@@ -1,6 +1,7 @@
 #include "condense/fe_model.hpp"
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <limits>
 #include <sstream>
 
@@ -26,12 +27,75 @@ int FeModel::nearest_node(const Vec3& at) const {
   return find_node(at, std::numeric_limits<double>::infinity());
 }
 
+namespace {
+
+/// The congruence T^T A T of a 6N x 6N matrix A, given by `column(r, add)`, which calls add(s, A(s, r))
+/// for every stored entry of column r. Column q of the result is sum_r T(r, q) sum_s A(s, r) T(s, :)^T
+/// (Gustavson's algorithm with a dense accumulator): one pass for the pattern, which sizes the result
+/// exactly, one for the values. Unlike Eigen's T^T * A * T it builds no 6N x n intermediate and no
+/// transposed copies, and it never holds the result twice.
+template <class Column>
+SparseMatrix congruence(const SparseMatrix& T, const Column& column) {
+  const Eigen::Index n = T.cols();
+  const Eigen::SparseMatrix<double, Eigen::RowMajor> rows = T;  // T(s, :) for the row DOF s
+  // Visit every (p, T(r, q) A(s, r) T(s, p)) of result column q.
+  const auto visit = [&](Eigen::Index q, auto&& add) {
+    for (SparseMatrix::InnerIterator t(T, q); t; ++t) {
+      column(t.row(), [&](Eigen::Index s, double a) {
+        for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator u(rows, s); u; ++u)
+          add(u.col(), t.value() * a * u.value());
+      });
+    }
+  };
+  SparseMatrix result(n, n);
+  std::vector<Eigen::Index> seen(static_cast<std::size_t>(n), -1);  // last column that had row p
+  std::size_t nonzeros = 0;
+  for (Eigen::Index q = 0; q < n; ++q) {
+    visit(q, [&](Eigen::Index p, double) {
+      if (seen[p] != q) seen[p] = q, ++nonzeros;
+    });
+  }
+  result.resizeNonZeros(static_cast<Eigen::Index>(nonzeros));
+  int* outer = result.outerIndexPtr();
+  int* inner = result.innerIndexPtr();
+  double* values = result.valuePtr();
+  std::vector<double> sum(static_cast<std::size_t>(n), 0.0);
+  std::fill(seen.begin(), seen.end(), -1);
+  int k = 0;
+  for (Eigen::Index q = 0; q < n; ++q) {
+    outer[q] = k;
+    visit(q, [&](Eigen::Index p, double value) {
+      if (seen[p] != q) seen[p] = q, inner[k++] = static_cast<int>(p);
+      sum[p] += value;
+    });
+    // Rows come in order when T maps DOF to free DOF monotonically (no couplings); sort otherwise.
+    if (!std::is_sorted(inner + outer[q], inner + k)) std::sort(inner + outer[q], inner + k);
+    for (int j = outer[q]; j < k; ++j) values[j] = sum[inner[j]], sum[inner[j]] = 0.0;
+  }
+  outer[n] = k;
+  return result;
+}
+
+}  // namespace
+
 SparseMatrix FeModel::stiffness() const {
-  return SparseMatrix(transform.transpose() * stiffness_all * transform);
+  return congruence(transform, [&](Eigen::Index r, auto&& add) {
+    for (SparseMatrix::InnerIterator it(stiffness_all, r); it; ++it) add(it.row(), it.value());
+  });
 }
 
 SparseMatrix FeModel::mass() const {
-  return SparseMatrix(transform.transpose() * mass_all * transform);
+  if (!scalar_mass_only()) {
+    return congruence(transform, [&](Eigen::Index r, auto&& add) {
+      for (SparseMatrix::InnerIterator it(mass_all, r); it; ++it) add(it.row(), it.value());
+    });
+  }
+  // M_all(6 i + a, 6 j + a) = m_ij on the translations a < 3; the rotation columns are empty.
+  return congruence(transform, [&](Eigen::Index r, auto&& add) {
+    const Eigen::Index a = r % 6;
+    if (a >= 3) return;
+    for (SparseMatrix::InnerIterator it(scalar_mass, r / 6); it; ++it) add(6 * it.row() + a, it.value());
+  });
 }
 
 Eigen::MatrixXd FeModel::rigid_body_field() const {
