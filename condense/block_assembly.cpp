@@ -24,12 +24,13 @@ NodeGraph node_graph(int node_count, const std::vector<MeshElement>& elements) {
   NodeGraph g;
   g.start.assign(node_count + 1, 0);
   std::vector<int> scratch;
+  std::vector<int> listed(node_count, -1);  // the last node whose list took m: duplicates skipped
   for (int n = 0; n < node_count; ++n) {
     scratch.clear();
     for (int k = count[n]; k < count[n + 1]; ++k)
-      for (int m : elements[element_of[k]].nodes) scratch.push_back(m);
+      for (int m : elements[element_of[k]].nodes)
+        if (listed[m] != n) listed[m] = n, scratch.push_back(m);
     std::sort(scratch.begin(), scratch.end());
-    scratch.erase(std::unique(scratch.begin(), scratch.end()), scratch.end());
     g.neighbours.insert(g.neighbours.end(), scratch.begin(), scratch.end());
     g.start[n + 1] = static_cast<int>(g.neighbours.size());
   }

@@ -29,50 +29,70 @@ int FeModel::nearest_node(const Vec3& at) const {
 
 namespace {
 
-/// The congruence T^T A T of a 6N x 6N matrix A, given by `column(r, add)`, which calls add(s, A(s, r))
-/// for every stored entry of column r. Column q of the result is sum_r T(r, q) sum_s A(s, r) T(s, :)^T
-/// (Gustavson's algorithm with a dense accumulator): one pass for the pattern, which sizes the result
-/// exactly, one for the values. Unlike Eigen's T^T * A * T it builds no 6N x n intermediate and no
-/// transposed copies, and it never holds the result twice.
+/// The congruence T^T A T of a symmetric 6N x 6N matrix A, given by `column(r, add)`, which calls
+/// add(s, A(s, r)) for every stored entry of column r. Column q of the result is
+/// sum_r T(r, q) sum_s A(s, r) T(s, :)^T (Gustavson's algorithm with a dense accumulator), of which only
+/// the rows p >= q are summed; the upper triangle is their mirror image, so the result is exactly
+/// symmetric (rounding would otherwise differ between (p, q) and (q, p) with couplings, and the
+/// eigen-solve would have to symmetrize a copy). One pass for the pattern, which sizes the result
+/// exactly, one for the values: no 6N x n intermediate and no transposed copies, as Eigen's T^T * A * T
+/// would build.
 template <class Column>
 SparseMatrix congruence(const SparseMatrix& T, const Column& column) {
   const Eigen::Index n = T.cols();
   const Eigen::SparseMatrix<double, Eigen::RowMajor> rows = T;  // T(s, :) for the row DOF s
-  // Visit every (p, T(r, q) A(s, r) T(s, p)) of result column q.
+  // Visit every (p, T(r, q) A(s, r) T(s, p)) of result column q with p >= q.
   const auto visit = [&](Eigen::Index q, auto&& add) {
     for (SparseMatrix::InnerIterator t(T, q); t; ++t) {
       column(t.row(), [&](Eigen::Index s, double a) {
         for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator u(rows, s); u; ++u)
-          add(u.col(), t.value() * a * u.value());
+          if (u.col() >= q) add(u.col(), t.value() * a * u.value());
       });
     }
   };
-  SparseMatrix result(n, n);
+  // Column q holds, above the diagonal, the rows q' < q whose lower part has row q (upper[q] of them),
+  // then its own lower part (lower[q] rows p >= q).
+  std::vector<int> lower(static_cast<std::size_t>(n), 0), upper(static_cast<std::size_t>(n), 0);
   std::vector<Eigen::Index> seen(static_cast<std::size_t>(n), -1);  // last column that had row p
-  std::size_t nonzeros = 0;
   for (Eigen::Index q = 0; q < n; ++q) {
     visit(q, [&](Eigen::Index p, double) {
-      if (seen[p] != q) seen[p] = q, ++nonzeros;
+      if (seen[p] == q) return;
+      seen[p] = q;
+      ++lower[q];
+      if (p > q) ++upper[p];
     });
   }
-  result.resizeNonZeros(static_cast<Eigen::Index>(nonzeros));
+  SparseMatrix result(n, n);
   int* outer = result.outerIndexPtr();
+  outer[0] = 0;
+  for (Eigen::Index q = 0; q < n; ++q) outer[q + 1] = outer[q] + upper[q] + lower[q];
+  result.resizeNonZeros(outer[n]);
   int* inner = result.innerIndexPtr();
   double* values = result.valuePtr();
+  std::vector<int> next_upper(outer, outer + n);  // where column p's next mirrored entry goes
   std::vector<double> sum(static_cast<std::size_t>(n), 0.0);
   std::fill(seen.begin(), seen.end(), -1);
-  int k = 0;
   for (Eigen::Index q = 0; q < n; ++q) {
-    outer[q] = k;
+    int* const first = inner + outer[q] + upper[q];
+    int k = 0;
     visit(q, [&](Eigen::Index p, double value) {
-      if (seen[p] != q) seen[p] = q, inner[k++] = static_cast<int>(p);
+      if (seen[p] != q) seen[p] = q, first[k++] = static_cast<int>(p);
       sum[p] += value;
     });
     // Rows come in order when T maps DOF to free DOF monotonically (no couplings); sort otherwise.
-    if (!std::is_sorted(inner + outer[q], inner + k)) std::sort(inner + outer[q], inner + k);
-    for (int j = outer[q]; j < k; ++j) values[j] = sum[inner[j]], sum[inner[j]] = 0.0;
+    if (!std::is_sorted(first, first + k)) std::sort(first, first + k);
+    double* const first_value = values + outer[q] + upper[q];
+    for (int j = 0; j < k; ++j) {
+      const int p = first[j];
+      first_value[j] = sum[p];
+      sum[p] = 0.0;
+      if (p > q) {  // the mirror image (q, p); columns q' < q came first, so rows stay sorted
+        const int slot = next_upper[p]++;
+        inner[slot] = static_cast<int>(q);
+        values[slot] = first_value[j];
+      }
+    }
   }
-  outer[n] = k;
   return result;
 }
 

@@ -58,14 +58,16 @@ Eigen::Matrix<double, 6, 6> rigid_mass_from_scalar(const FeModel& model) {
 ///   S_kl = U_k^T m U_l.
 ModalInvariants modal_invariants_from_scalar(const FeModel& model, const Eigen::MatrixXd& shapes) {
   const Eigen::Index N = static_cast<Eigen::Index>(model.nodes.size()), n = shapes.cols();
-  // [U_x U_y U_z x y z] (N x (3 n + 3)) and its product with m, in one pass over m.
-  Eigen::MatrixXd W(N, 3 * n + 3);
+  // [U_x U_y U_z x y z] (N x (3 n + 3)) and its product with m, in one pass over m (row-major: each
+  // entry m_ij adds a contiguous row of W).
+  using RowMajorMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  RowMajorMatrix W(N, 3 * n + 3);
   for (int a = 0; a < 3; ++a) {
     W.middleCols(a * n, n) = Eigen::Map<const Eigen::MatrixXd, 0, Eigen::Stride<Eigen::Dynamic, 6>>(
         shapes.data() + a, N, n, Eigen::Stride<Eigen::Dynamic, 6>(shapes.outerStride(), 6));
   }
   W.rightCols(3) = coordinates(model);
-  const Eigen::MatrixXd mW = model.scalar_mass * W;
+  const RowMajorMatrix mW = model.scalar_mass * W;
   const auto U = [&](int a) { return W.middleCols(a * n, n); };
   const auto mU = [&](int a) { return mW.middleCols(a * n, n); };
   const auto p = [&](int k) { return mW.col(3 * n + k); };

@@ -719,6 +719,30 @@ TEST_F(TurnedBox, ModalInvariantsOfRigidMotionsAreTheMassProperties) {
   }
 }
 
+TEST_F(TurnedBox, FreeStiffnessAndMassAreExactlySymmetric) {
+  // T^T K T and T^T M T through rigid and distributing couplings: symmetric to the last bit (the
+  // eigen-solve would otherwise hold a symmetrized copy), and M = T^T (m (x) I_3) T formed from the scalar
+  // mass equals the product with the 6N x 6N mass, assembled here.
+  const FeModel model = build_volume_model(box());
+  const SparseMatrix K = model.stiffness(), M = model.mass();
+  EXPECT_EQ(SparseMatrix(K - SparseMatrix(K.transpose())).norm(), 0.0);
+  EXPECT_EQ(SparseMatrix(M - SparseMatrix(M.transpose())).norm(), 0.0);
+  std::vector<Eigen::Triplet<double>> mt;
+  for (const MeshElement& e : mesh_.elements) {
+    Eigen::Matrix<double, 3, Eigen::Dynamic> x(3, e.nodes.size());
+    for (std::size_t i = 0; i < e.nodes.size(); ++i) x.col(i) = mesh_.nodes[e.nodes[i]];
+    const SolidElementMatrices em = solid_element(SolidType::kTet10, x, IsotropicMaterial{210e9, 0.3, rho});
+    for (std::size_t i = 0; i < e.nodes.size(); ++i)
+      for (std::size_t j = 0; j < e.nodes.size(); ++j)
+        for (int k = 0; k < 3; ++k)
+          mt.emplace_back(6 * e.nodes[i] + k, 6 * e.nodes[j] + k, em.scalar_mass(i, j));
+  }
+  SparseMatrix M_all(model.all_dofs(), model.all_dofs());
+  M_all.setFromTriplets(mt.begin(), mt.end());
+  const Eigen::MatrixXd reference = Eigen::MatrixXd(model.transform.transpose() * M_all * model.transform);
+  EXPECT_LT(relative_difference(Eigen::MatrixXd(M), reference), 1e-14);
+}
+
 TEST_F(TurnedBox, InvariantsEqualTheNodalMassMatrixFormulas) {
   // The model keeps only m_ij and forms the invariants from the shapes' translations U_a. Reference: the
   // 6N x 6N formulas on matrices assembled here element by element, M_all(6i+a, 6j+a) = m_ij and the
