@@ -82,15 +82,17 @@ SparseMatrix congruence(const SparseMatrix& T, const Column& column) {
     // Rows come in order when T maps DOF to free DOF monotonically (no couplings); sort otherwise.
     if (!std::is_sorted(first, first + k)) std::sort(first, first + k);
     double* const first_value = values + outer[q] + upper[q];
-    for (int j = 0; j < k; ++j) {
-      const int p = first[j];
-      first_value[j] = sum[p];
-      sum[p] = 0.0;
-      if (p > q) {  // the mirror image (q, p); columns q' < q came first, so rows stay sorted
-        const int slot = next_upper[p]++;
-        inner[slot] = static_cast<int>(q);
-        values[slot] = first_value[j];
-      }
+    for (int j = 0; j < k; ++j) first_value[j] = sum[first[j]], sum[first[j]] = 0.0;
+  }
+  // The upper triangle: the mirror image (q, p) of every (p, q), p > q; the columns q go in order, so
+  // the rows of each column's upper part come out sorted.
+  for (Eigen::Index q = 0; q < n; ++q) {
+    for (int j = outer[q] + upper[q]; j < outer[q + 1]; ++j) {
+      const int p = inner[j];
+      if (p == q) continue;
+      const int slot = next_upper[p]++;
+      inner[slot] = static_cast<int>(q);
+      values[slot] = values[j];
     }
   }
   return result;
