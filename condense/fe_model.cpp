@@ -36,9 +36,9 @@ namespace {
 /// symmetric (rounding would otherwise differ between (p, q) and (q, p) with couplings, and the
 /// eigen-solve would have to symmetrize a copy). One pass for the pattern, which sizes the result
 /// exactly, one for the values: no 6N x n intermediate and no transposed copies, as Eigen's T^T * A * T
-/// would build.
+/// would build. With `lower_only` the upper triangle is left out.
 template <class Column>
-SparseMatrix congruence(const SparseMatrix& T, const Column& column) {
+SparseMatrix congruence(const SparseMatrix& T, bool lower_only, const Column& column) {
   const Eigen::Index n = T.cols();
   const Eigen::SparseMatrix<double, Eigen::RowMajor> rows = T;  // T(s, :) for the row DOF s
   // Visit every (p, T(r, q) A(s, r) T(s, p)) of result column q with p >= q.
@@ -59,7 +59,7 @@ SparseMatrix congruence(const SparseMatrix& T, const Column& column) {
       if (seen[p] == q) return;
       seen[p] = q;
       ++lower[q];
-      if (p > q) ++upper[p];
+      if (p > q && !lower_only) ++upper[p];
     });
   }
   SparseMatrix result(n, n);
@@ -86,7 +86,7 @@ SparseMatrix congruence(const SparseMatrix& T, const Column& column) {
   }
   // The upper triangle: the mirror image (q, p) of every (p, q), p > q; the columns q go in order, so
   // the rows of each column's upper part come out sorted.
-  for (Eigen::Index q = 0; q < n; ++q) {
+  for (Eigen::Index q = 0; q < n && !lower_only; ++q) {
     for (int j = outer[q] + upper[q]; j < outer[q + 1]; ++j) {
       const int p = inner[j];
       if (p == q) continue;
@@ -100,20 +100,21 @@ SparseMatrix congruence(const SparseMatrix& T, const Column& column) {
 
 }  // namespace
 
-SparseMatrix FeModel::stiffness() const {
-  return congruence(transform, [&](Eigen::Index r, auto&& add) {
+SparseMatrix FeModel::stiffness(Triangles stored) const {
+  return congruence(transform, stored == Triangles::kLower, [&](Eigen::Index r, auto&& add) {
     for (SparseMatrix::InnerIterator it(stiffness_all, r); it; ++it) add(it.row(), it.value());
   });
 }
 
-SparseMatrix FeModel::mass() const {
+SparseMatrix FeModel::mass(Triangles stored) const {
+  const bool lower_only = stored == Triangles::kLower;
   if (!scalar_mass_only()) {
-    return congruence(transform, [&](Eigen::Index r, auto&& add) {
+    return congruence(transform, lower_only, [&](Eigen::Index r, auto&& add) {
       for (SparseMatrix::InnerIterator it(mass_all, r); it; ++it) add(it.row(), it.value());
     });
   }
   // M_all(6 i + a, 6 j + a) = m_ij on the translations a < 3; the rotation columns are empty.
-  return congruence(transform, [&](Eigen::Index r, auto&& add) {
+  return congruence(transform, lower_only, [&](Eigen::Index r, auto&& add) {
     const Eigen::Index a = r % 6;
     if (a >= 3) return;
     for (SparseMatrix::InnerIterator it(scalar_mass, r / 6); it; ++it) add(6 * it.row() + a, it.value());

@@ -61,9 +61,12 @@ struct FeModel {
   int free_dofs() const { return static_cast<int>(transform.cols()); }
   /// True if the mass is held as scalar_mass (volume models).
   bool scalar_mass_only() const { return scalar_mass.rows() > 0; }
-  /// The free-DOF stiffness and mass T^T K T, T^T M T (both triangles).
-  SparseMatrix stiffness() const;
-  SparseMatrix mass() const;
+  /// Which triangles of the free-DOF matrices to store: both, or the lower one with the diagonal (half
+  /// the memory, for code that reads one triangle, as CHOLMOD and Spectra's SparseSymMatProd<Lower> do).
+  enum class Triangles { kBoth, kLower };
+  /// The free-DOF stiffness and mass T^T K T, T^T M T, exactly symmetric.
+  SparseMatrix stiffness(Triangles stored = Triangles::kBoth) const;
+  SparseMatrix mass(Triangles stored = Triangles::kBoth) const;
 
   /// Index of the node at `at` within `tolerance` (m), or -1.
   int find_node(const Vec3& at, double tolerance) const;

@@ -721,12 +721,18 @@ TEST_F(TurnedBox, ModalInvariantsOfRigidMotionsAreTheMassProperties) {
 
 TEST_F(TurnedBox, FreeStiffnessAndMassAreExactlySymmetric) {
   // T^T K T and T^T M T through rigid and distributing couplings: symmetric to the last bit (the
-  // eigen-solve would otherwise hold a symmetrized copy), and M = T^T (m (x) I_3) T formed from the scalar
-  // mass equals the product with the 6N x 6N mass, assembled here.
+  // eigen-solve would otherwise hold a symmetrized copy), their lower triangles alone the same, and M = T^T
+  // (m (x) I_3) T formed from the scalar mass equals the product with the 6N x 6N mass, assembled here.
   const FeModel model = build_volume_model(box());
   const SparseMatrix K = model.stiffness(), M = model.mass();
   EXPECT_EQ(SparseMatrix(K - SparseMatrix(K.transpose())).norm(), 0.0);
   EXPECT_EQ(SparseMatrix(M - SparseMatrix(M.transpose())).norm(), 0.0);
+  // The lower triangles alone are those of the full matrices.
+  const SparseMatrix K_lower = model.stiffness(FeModel::Triangles::kLower);
+  const SparseMatrix M_lower = model.mass(FeModel::Triangles::kLower);
+  EXPECT_EQ(K_lower.nonZeros(), SparseMatrix(K.triangularView<Eigen::Lower>()).nonZeros());
+  EXPECT_EQ(SparseMatrix(K_lower - SparseMatrix(K.triangularView<Eigen::Lower>())).norm(), 0.0);
+  EXPECT_EQ(SparseMatrix(M_lower - SparseMatrix(M.triangularView<Eigen::Lower>())).norm(), 0.0);
   std::vector<Eigen::Triplet<double>> mt;
   for (const MeshElement& e : mesh_.elements) {
     Eigen::Matrix<double, 3, Eigen::Dynamic> x(3, e.nodes.size());
