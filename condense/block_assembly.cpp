@@ -24,12 +24,13 @@ NodeGraph node_graph(int node_count, const std::vector<MeshElement>& elements) {
   NodeGraph g;
   g.start.assign(node_count + 1, 0);
   std::vector<int> scratch;
+  std::vector<int> listed(node_count, -1);  // the last node whose list took m: duplicates skipped
   for (int n = 0; n < node_count; ++n) {
     scratch.clear();
     for (int k = count[n]; k < count[n + 1]; ++k)
-      for (int m : elements[element_of[k]].nodes) scratch.push_back(m);
+      for (int m : elements[element_of[k]].nodes)
+        if (listed[m] != n) listed[m] = n, scratch.push_back(m);
     std::sort(scratch.begin(), scratch.end());
-    scratch.erase(std::unique(scratch.begin(), scratch.end()), scratch.end());
     g.neighbours.insert(g.neighbours.end(), scratch.begin(), scratch.end());
     g.start[n + 1] = static_cast<int>(g.neighbours.size());
   }
@@ -62,6 +63,16 @@ BlockAssembler::BlockAssembler(const NodeGraph& graph, int total_nodes,
   }
   outer[size] = k;
   std::fill(matrix_.valuePtr(), matrix_.valuePtr() + k, 0.0);
+}
+
+NodeAssembler::NodeAssembler(const NodeGraph& graph, int total_nodes) {
+  const int graph_nodes = static_cast<int>(graph.start.size()) - 1;
+  matrix_.resize(total_nodes, total_nodes);
+  matrix_.resizeNonZeros(static_cast<Eigen::Index>(graph.neighbours.size()));
+  int* outer = matrix_.outerIndexPtr();
+  for (int n = 0; n <= total_nodes; ++n) outer[n] = graph.start[std::min(n, graph_nodes)];
+  std::copy(graph.neighbours.begin(), graph.neighbours.end(), matrix_.innerIndexPtr());
+  std::fill(matrix_.valuePtr(), matrix_.valuePtr() + graph.neighbours.size(), 0.0);
 }
 
 }  // namespace nvh::condense

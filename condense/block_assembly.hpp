@@ -35,12 +35,36 @@ class BlockAssembler {
     matrix_.valuePtr()[matrix_.outerIndexPtr()[6 * col_node + b] + p * per_neighbour_[b] + offset_[a][b]] +=
         value;
   }
-  Eigen::SparseMatrix<double> take() { return std::move(matrix_); }
+  /// Hand the assembled matrix over to `target` (its old contents are freed) and keep nothing. A swap:
+  /// Eigen 3.4's SparseMatrix has no move operations, and a copy would hold the matrix twice.
+  void take(Eigen::SparseMatrix<double>& target) {
+    Eigen::SparseMatrix<double>().swap(target);
+    target.swap(matrix_);
+  }
 
  private:
   Eigen::SparseMatrix<double> matrix_;
   std::array<int, 3> per_neighbour_{};          ///< rows per neighbour in a column of component b
   std::array<std::array<int, 3>, 3> offset_{};  ///< row a's place among them
+};
+
+/// An N x N matrix over the nodes (N = total nodes, graph nodes first) whose column n holds the rows
+/// of n's neighbours, with zero values, such as the scalar mass int rho N_i N_j dV; add() sums into it.
+class NodeAssembler {
+ public:
+  NodeAssembler(const NodeGraph& graph, int total_nodes);
+  /// A(m, col_node) += value for the row node m at p = graph.position(col_node, m).
+  void add(int p, int col_node, double value) {
+    matrix_.valuePtr()[matrix_.outerIndexPtr()[col_node] + p] += value;
+  }
+  /// Hand the assembled matrix over to `target`, as BlockAssembler::take.
+  void take(Eigen::SparseMatrix<double>& target) {
+    Eigen::SparseMatrix<double>().swap(target);
+    target.swap(matrix_);
+  }
+
+ private:
+  Eigen::SparseMatrix<double> matrix_;
 };
 
 }  // namespace nvh::condense

@@ -173,10 +173,23 @@ Superelement condense_component(const Component& c, EigenBackend backend, const 
   } else {
     observer_nodes = locate(model, c.observers, c.point_tolerance, "observation");
   }
+  // The free-DOF matrices; what the reduction does not need is freed before it runs (its factorization
+  // sets the peak memory): the nodal stiffness, and the mesh unless it is exported. A modal reduction
+  // reads one triangle only and hands both matrices over to the eigen-solve (see ReductionInput).
+  const auto stored =
+      c.reduction.method == ReductionMethod::kModal ? FeModel::Triangles::kLower : FeModel::Triangles::kBoth;
   ReductionInput in;
-  in.stiffness = model.stiffness();
-  in.mass = model.mass();
-  if (volume) model.stiffness_all = SparseMatrix();  // not needed again: free it before the factorization
+  in.lower_triangles = stored == FeModel::Triangles::kLower;
+  {
+    SparseMatrix K = model.stiffness(stored);
+    in.stiffness.swap(K);  // Eigen 3.4's SparseMatrix has no move assignment: swap, not copy
+  }
+  release(model.stiffness_all);
+  {
+    SparseMatrix M = model.mass(stored);
+    in.mass.swap(M);
+  }
+  if (!run.mesh_export) mesh = Mesh();
   log.info("model: " + std::to_string(model.nodes.size()) + " nodes, " + std::to_string(model.element_count) +
            " " + model.element_kind + ", " + std::to_string(model.free_dofs()) + " free DOF");
   if (timer) timer->lap("assemble");
@@ -192,7 +205,9 @@ Superelement condense_component(const Component& c, EigenBackend backend, const 
            " DOF (" + std::to_string(in.boundary_dofs.size()) + " interface DOF, " +
            std::to_string(in.rigid_body_modes) + " rigid-body modes, eigen-solver " + to_string(backend) +
            ")");
-  const ReducedModel r = reduce(std::move(in), log);
+  const ReducedModel r = reduce(in, log);
+  release(in.stiffness);
+  release(in.mass);
   if (timer) timer->lap("reduce");
 
   const Eigen::MatrixXd shapes = model.transform * r.basis;  // 6N x n nodal shapes
@@ -230,7 +245,6 @@ Superelement condense_component(const Component& c, EigenBackend backend, const 
     }
     se.surface = std::move(s);
   }
-  if (volume) add_component_masses(model);
   se.inertia = rigid_body_inertia(model);
   se.invariants = modal_invariants(model, shapes);
   se.node_count = static_cast<int>(model.nodes.size());

@@ -72,6 +72,19 @@ double norm1(const SparseMatrix& a) {
   return result;
 }
 
+/// ||A||_1 of a symmetric matrix stored with both triangles, or with the lower one alone.
+double symmetric_norm1(const SparseMatrix& a, bool lower_triangle) {
+  if (!lower_triangle) return norm1(a);
+  Eigen::VectorXd column = Eigen::VectorXd::Zero(a.cols());
+  for (Eigen::Index j = 0; j < a.outerSize(); ++j) {
+    for (SparseMatrix::InnerIterator it(a, j); it; ++it) {
+      column[j] += std::abs(it.value());
+      if (it.row() != j) column[it.row()] += std::abs(it.value());
+    }
+  }
+  return column.size() ? column.maxCoeff() : 0.0;
+}
+
 bool all_finite(const SparseMatrix& a) {
   for (Eigen::Index j = 0; j < a.outerSize(); ++j)
     for (SparseMatrix::InnerIterator it(a, j); it; ++it)
@@ -152,17 +165,27 @@ struct Pencil {
   }
 };
 
-/// Build the pencil from full symmetric K and M, dropping each once its triangle is taken.
-Pencil make_pencil(SparseMatrix& K, SparseMatrix& M, double sigma_a) {
-  Pencil p;
-  p.k_norm1 = norm1(K);
+/// Build the pencil from symmetric K and M (both triangles, or the lower ones alone), giving back the
+/// storage of each once its triangle is taken.
+void make_pencil(SparseMatrix& K, SparseMatrix& M, double sigma_a, bool lower_triangles, Pencil& p) {
+  const auto release = [](SparseMatrix& a) { SparseMatrix().swap(a); };
+  p.k_norm1 = symmetric_norm1(K, lower_triangles);
   p.sigma_a = sigma_a;
-  p.a = sigma_a == 0.0 ? SparseMatrix(K.triangularView<Eigen::Lower>())
-                       : SparseMatrix((K - sigma_a * M).triangularView<Eigen::Lower>());
-  K = SparseMatrix();
-  p.m = SparseMatrix(M.triangularView<Eigen::Lower>());
-  M = SparseMatrix();
-  return p;
+  if (lower_triangles && sigma_a == 0.0) {
+    p.a.swap(K);
+  } else {
+    SparseMatrix a = lower_triangles ? SparseMatrix(K - sigma_a * M)
+                                     : SparseMatrix((K - sigma_a * M).triangularView<Eigen::Lower>());
+    p.a.swap(a);
+  }
+  release(K);
+  if (lower_triangles) {
+    p.m.swap(M);
+  } else {
+    SparseMatrix m = M.triangularView<Eigen::Lower>();
+    p.m.swap(m);
+  }
+  release(M);
 }
 
 /// Shift-invert operator of Spectra's OpType concept: y = (K - sigma M)^-1 x on a CHOLMOD supernodal
@@ -654,10 +677,16 @@ double eigenvalue_of_hz(double hz) {
   return (kTwoPi * hz) * (kTwoPi * hz);
 }
 
-EigenResult solve_eigenproblem(SparseMatrix K, SparseMatrix M, const EigenRequest& request) {
+EigenResult solve_eigenproblem(const SparseMatrix& K, const SparseMatrix& M, const EigenRequest& request) {
+  return solve_eigenproblem(SparseMatrix(K), SparseMatrix(M), request);
+}
+
+EigenResult solve_eigenproblem(SparseMatrix&& K, SparseMatrix&& M, const EigenRequest& request) {
   check_input(K, M, request);
-  symmetrize(K, "stiffness");
-  symmetrize(M, "mass");
+  if (!request.lower_triangles) {
+    symmetrize(K, "stiffness");
+    symmetrize(M, "mass");
+  }
   const int n = static_cast<int>(K.rows());
 
   const bool by_count = request.modes > 0;
@@ -672,12 +701,13 @@ EigenResult solve_eigenproblem(SparseMatrix K, SparseMatrix M, const EigenReques
   // Eigenvalues closer than this count as equal (rigid modes near 0, whose computed eigenvalues are
   // round-off of the order of eps lambda_max; ||K||_1 / max M_ii is of the order of lambda_max).
   const double max_mass = M.diagonal().maxCoeff();
-  double absolute_gap = 1e-10 * norm1(K) / max_mass;
+  double absolute_gap = 1e-10 * symmetric_norm1(K, request.lower_triangles) / max_mass;
   // K and M go into the pencil (lower triangles, K as K - sigma M): no more copies from here on.
   const double sigma = dense || request.stiffness_factor ? 0.0
                        : request.shift < 0.0             ? request.shift
                                                          : automatic_shift(K, M, request);
-  const Pencil pencil = make_pencil(K, M, sigma);
+  Pencil pencil;
+  make_pencil(K, M, sigma, request.lower_triangles, pencil);
   if (!dense) {
     ShiftInvertOperator op = request.stiffness_factor ? ShiftInvertOperator(pencil, request.stiffness_factor)
                                                       : ShiftInvertOperator(pencil, sigma, request.ordering);

@@ -53,6 +53,8 @@ struct EigenRequest {
   /// Optional: a factorization of K itself, K positive definite (a Craig-Bampton interior). Then the
   /// shift is 0 and nothing is factorized; the caller has used it for its own solves with K.
   std::shared_ptr<const SparseCholesky> stiffness_factor;
+  /// K and M hold their lower triangles only (with the diagonal), exactly symmetric by construction.
+  bool lower_triangles = false;
 };
 
 struct EigenResult {
@@ -69,12 +71,17 @@ struct EigenResult {
   double next_eigenvalue = std::numeric_limits<double>::quiet_NaN();
 };
 
-/// Lowest eigenpairs of K x = lambda M x, K and M full symmetric (both triangles stored). Throws
-/// nvh::Error if the factorization fails (K - sigma M not positive definite: M not positive definite),
-/// the iteration does not converge, a residual exceeds the limit, or the request asks for more modes
-/// than the problem has. K and M are taken by value: a caller that needs them no more moves them in,
-/// and their storage is given back before the factorization (which sets the peak memory of large models).
-EigenResult solve_eigenproblem(SparseMatrix K, SparseMatrix M, const EigenRequest& request);
+/// Lowest eigenpairs of K x = lambda M x, K and M symmetric: both triangles stored, or the lower one
+/// alone if request.lower_triangles. Throws nvh::Error if the factorization fails (K - sigma M not
+/// positive definite: M not positive definite), the iteration does not converge, a residual exceeds the
+/// limit, or the request asks for more modes than the problem has.
+///
+/// This overload consumes K and M (pass std::move(K), or temporaries): their storage is given back
+/// before the factorization, which sets the peak memory of large models. (Eigen 3.4's SparseMatrix has
+/// no move operations, hence rvalue references rather than values: no copy is made.)
+EigenResult solve_eigenproblem(SparseMatrix&& K, SparseMatrix&& M, const EigenRequest& request);
+/// The same on copies of K and M.
+EigenResult solve_eigenproblem(const SparseMatrix& K, const SparseMatrix& M, const EigenRequest& request);
 
 /// Frequency in Hz of an eigenvalue lambda = omega^2 (negative round-off gives 0).
 double frequency_hz(double eigenvalue);

@@ -1,6 +1,7 @@
 #include "condense/fe_model.hpp"
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <limits>
 #include <sstream>
 
@@ -26,12 +27,98 @@ int FeModel::nearest_node(const Vec3& at) const {
   return find_node(at, std::numeric_limits<double>::infinity());
 }
 
-SparseMatrix FeModel::stiffness() const {
-  return SparseMatrix(transform.transpose() * stiffness_all * transform);
+namespace {
+
+/// The congruence T^T A T of a symmetric 6N x 6N matrix A, given by `column(r, add)`, which calls
+/// add(s, A(s, r)) for every stored entry of column r. Column q of the result is
+/// sum_r T(r, q) sum_s A(s, r) T(s, :)^T (Gustavson's algorithm with a dense accumulator), of which only
+/// the rows p >= q are summed; the upper triangle is their mirror image, so the result is exactly
+/// symmetric (rounding would otherwise differ between (p, q) and (q, p) with couplings, and the
+/// eigen-solve would have to symmetrize a copy). One pass for the pattern, which sizes the result
+/// exactly, one for the values: no 6N x n intermediate and no transposed copies, as Eigen's T^T * A * T
+/// would build. With `lower_only` the upper triangle is left out.
+template <class Column>
+SparseMatrix congruence(const SparseMatrix& T, bool lower_only, const Column& column) {
+  const Eigen::Index n = T.cols();
+  const Eigen::SparseMatrix<double, Eigen::RowMajor> rows = T;  // T(s, :) for the row DOF s
+  // Visit every (p, T(r, q) A(s, r) T(s, p)) of result column q with p >= q.
+  const auto visit = [&](Eigen::Index q, auto&& add) {
+    for (SparseMatrix::InnerIterator t(T, q); t; ++t) {
+      column(t.row(), [&](Eigen::Index s, double a) {
+        for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator u(rows, s); u; ++u)
+          if (u.col() >= q) add(u.col(), t.value() * a * u.value());
+      });
+    }
+  };
+  // Column q holds, above the diagonal, the rows q' < q whose lower part has row q (upper[q] of them),
+  // then its own lower part (lower[q] rows p >= q).
+  std::vector<int> lower(static_cast<std::size_t>(n), 0), upper(static_cast<std::size_t>(n), 0);
+  std::vector<Eigen::Index> seen(static_cast<std::size_t>(n), -1);  // last column that had row p
+  for (Eigen::Index q = 0; q < n; ++q) {
+    visit(q, [&](Eigen::Index p, double) {
+      if (seen[p] == q) return;
+      seen[p] = q;
+      ++lower[q];
+      if (p > q && !lower_only) ++upper[p];
+    });
+  }
+  SparseMatrix result(n, n);
+  int* outer = result.outerIndexPtr();
+  outer[0] = 0;
+  for (Eigen::Index q = 0; q < n; ++q) outer[q + 1] = outer[q] + upper[q] + lower[q];
+  result.resizeNonZeros(outer[n]);
+  int* inner = result.innerIndexPtr();
+  double* values = result.valuePtr();
+  std::vector<int> next_upper(outer, outer + n);  // where column p's next mirrored entry goes
+  std::vector<double> sum(static_cast<std::size_t>(n), 0.0);
+  std::fill(seen.begin(), seen.end(), -1);
+  for (Eigen::Index q = 0; q < n; ++q) {
+    int* const first = inner + outer[q] + upper[q];
+    int k = 0;
+    visit(q, [&](Eigen::Index p, double value) {
+      if (seen[p] != q) seen[p] = q, first[k++] = static_cast<int>(p);
+      sum[p] += value;
+    });
+    // Rows come in order when T maps DOF to free DOF monotonically (no couplings); sort otherwise.
+    if (!std::is_sorted(first, first + k)) std::sort(first, first + k);
+    double* const first_value = values + outer[q] + upper[q];
+    for (int j = 0; j < k; ++j) first_value[j] = sum[first[j]], sum[first[j]] = 0.0;
+  }
+  // The upper triangle: the mirror image (q, p) of every (p, q), p > q; the columns q go in order, so
+  // the rows of each column's upper part come out sorted.
+  for (Eigen::Index q = 0; q < n && !lower_only; ++q) {
+    for (int j = outer[q] + upper[q]; j < outer[q + 1]; ++j) {
+      const int p = inner[j];
+      if (p == q) continue;
+      const int slot = next_upper[p]++;
+      inner[slot] = static_cast<int>(q);
+      values[slot] = values[j];
+    }
+  }
+  return result;
 }
 
-SparseMatrix FeModel::mass() const {
-  return SparseMatrix(transform.transpose() * mass_all * transform);
+}  // namespace
+
+SparseMatrix FeModel::stiffness(Triangles stored) const {
+  return congruence(transform, stored == Triangles::kLower, [&](Eigen::Index r, auto&& add) {
+    for (SparseMatrix::InnerIterator it(stiffness_all, r); it; ++it) add(it.row(), it.value());
+  });
+}
+
+SparseMatrix FeModel::mass(Triangles stored) const {
+  const bool lower_only = stored == Triangles::kLower;
+  if (!scalar_mass_only()) {
+    return congruence(transform, lower_only, [&](Eigen::Index r, auto&& add) {
+      for (SparseMatrix::InnerIterator it(mass_all, r); it; ++it) add(it.row(), it.value());
+    });
+  }
+  // M_all(6 i + a, 6 j + a) = m_ij on the translations a < 3; the rotation columns are empty.
+  return congruence(transform, lower_only, [&](Eigen::Index r, auto&& add) {
+    const Eigen::Index a = r % 6;
+    if (a >= 3) return;
+    for (SparseMatrix::InnerIterator it(scalar_mass, r / 6); it; ++it) add(6 * it.row() + a, it.value());
+  });
 }
 
 Eigen::MatrixXd FeModel::rigid_body_field() const {

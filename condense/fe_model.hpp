@@ -32,12 +32,19 @@ struct FeModel {
   std::string element_kind;  ///< for messages: "beam elements", "C3D10 elements", ...
 
   SparseMatrix stiffness_all;  ///< 6N x 6N, N/m and N m/rad
-  SparseMatrix mass_all;       ///< 6N x 6N, kg and kg m^2
-  /// Section-resolved mass integrals int rho N_A^T N_B dV (A, B = global x, y, z), 6N x 6N each;
-  /// sum of the diagonal ones = mass_all. For the floating-frame quadratic invariants.
+
+  // The mass, in one of two forms. Beam models (rotary inertia, rigid-link offsets): the nodal matrix
+  // mass_all and its section-resolved parts. Volume models (translations only): the scalar mass alone,
+  // since their nodal mass is scalar_mass (x) I_3 on the translations and zero on the rotations.
+  SparseMatrix mass_all;  ///< beams: 6N x 6N, kg and kg m^2; volumes: empty
+  /// Beams: section-resolved mass integrals int rho N_A^T N_B dV (A, B = global x, y, z), 6N x 6N
+  /// each; sum of the diagonal ones = mass_all. For the floating-frame quadratic invariants.
   std::array<std::array<SparseMatrix, 3>, 3> component_mass_all;
-  /// Position moments: column 3k+A holds p with p^T u = int rho x_k u_A dV (6N x 9).
+  /// Beams: position moments, column 3k+A holds p with p^T u = int rho x_k u_A dV (6N x 9).
   Eigen::MatrixXd position_moment_all;
+  /// Volumes: the consistent scalar mass m_ij = int rho N_i N_j dV (N x N, both triangles stored, kg;
+  /// zero rows for coupling nodes); M_all(6i+a, 6j+a) = m_ij for a = x, y, z. Beams: empty.
+  SparseMatrix scalar_mass;
 
   SparseMatrix transform;           ///< T: 6N x n_free
   std::vector<bool> supported_dof;  ///< per nodal DOF: held by a support
@@ -52,9 +59,14 @@ struct FeModel {
 
   int all_dofs() const { return 6 * static_cast<int>(nodes.size()); }
   int free_dofs() const { return static_cast<int>(transform.cols()); }
-  /// The free-DOF stiffness and mass T^T K T, T^T M T.
-  SparseMatrix stiffness() const;
-  SparseMatrix mass() const;
+  /// True if the mass is held as scalar_mass (volume models).
+  bool scalar_mass_only() const { return scalar_mass.rows() > 0; }
+  /// Which triangles of the free-DOF matrices to store: both, or the lower one with the diagonal (half
+  /// the memory, for code that reads one triangle, as CHOLMOD and Spectra's SparseSymMatProd<Lower> do).
+  enum class Triangles { kBoth, kLower };
+  /// The free-DOF stiffness and mass T^T K T, T^T M T, exactly symmetric.
+  SparseMatrix stiffness(Triangles stored = Triangles::kBoth) const;
+  SparseMatrix mass(Triangles stored = Triangles::kBoth) const;
 
   /// Index of the node at `at` within `tolerance` (m), or -1.
   int find_node(const Vec3& at, double tolerance) const;
@@ -65,6 +77,12 @@ struct FeModel {
   /// translations x, y, z and unit rotations about x, y, z.
   Eigen::MatrixXd rigid_body_field() const;
 };
+
+/// Give back the storage of a sparse matrix now. Eigen 3.4's SparseMatrix has no move assignment:
+/// `a = SparseMatrix()` keeps the old allocation (it only sets the size to zero); a swap frees it.
+inline void release(SparseMatrix& a) {
+  SparseMatrix().swap(a);
+}
 
 /// Mark supported DOF: a support `at` a point holds that node (error located at the entry if no node
 /// is there, or if it is a rigid-link end); a `box` holds every node inside (error if none is). Sets

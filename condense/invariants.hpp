@@ -1,7 +1,8 @@
 #pragma once
 // Inertia invariants of a flexible body in a floating frame of reference, in Shabana's formulation
 // (A. A. Shabana, Dynamics of Multibody Systems, 3rd ed., Cambridge 2005, sec. 5.5, eq. 5.99-5.110),
-// computed from the consistent mass matrix and its section-resolved parts, never from lumped masses.
+// computed from the consistent mass matrix and its section-resolved parts (beams) or from the scalar
+// consistent mass m_ij = int rho N_i N_j dV (solids), never from lumped masses.
 //
 // A material point at x (undeformed, component axes, m) moves by u = S(x) q, with S = N B the shape
 // field of the reduced basis B. The invariants are:
@@ -41,10 +42,13 @@ struct ModalInvariants {
 /// Mass, centre of mass and inertia from the 6x6 rigid-body mass R^T M R (R about the origin).
 RigidBodyInertia rigid_body_inertia(const Eigen::Matrix<double, 6, 6>& rigid_mass);
 
-/// The rigid-body inertia of a beam model, from its consistent mass matrix (supports ignored).
+/// The rigid-body inertia of a model from its consistent mass (supports ignored): R^T M_all R for a
+/// beam model, the moments 1^T m 1, 1^T m x_k, x_k^T m x_l of the scalar mass for a volume model.
 RigidBodyInertia rigid_body_inertia(const FeModel& model);
 
-/// Modal invariants for nodal shapes `shapes` (6N x n, i.e. T * basis).
+/// Modal invariants for nodal shapes `shapes` (6N x n, i.e. T * basis): from mass_all and its
+/// section-resolved parts for a beam model; from the scalar mass and the shapes' translations for a
+/// volume model (the same integrals, with M_all = m (x) I_3 written out; see invariants.cpp).
 ModalInvariants modal_invariants(const FeModel& model, const Eigen::MatrixXd& shapes);
 
 }  // namespace nvh::condense

@@ -42,6 +42,7 @@ EigenRequest request_for(const ReductionSettings& s, int rigid, const ReductionI
   r.backend = in.backend;
   r.progress = in.progress;
   r.ordering = in.ordering;
+  r.lower_triangles = in.lower_triangles;
   if (s.modes > 0) {
     r.modes = s.modes + rigid;
   } else {
@@ -210,7 +211,9 @@ void finish_reduced(ReducedModel& r, const ReductionInput& in) {
 
 }  // namespace
 
-ReducedModel reduce(ReductionInput in, const Logger& log) {
+ReducedModel reduce(ReductionInput& in, const Logger& log) {
+  if (in.lower_triangles && in.settings.method != ReductionMethod::kModal)
+    throw Error("internal: only the modal reduction works on lower triangles");
   switch (in.settings.method) {
     case ReductionMethod::kModal:
       return modal_reduction(in, log);

@@ -25,11 +25,13 @@
 namespace nvh::condense {
 
 struct ReductionInput {
-  /// K and M on the free DOF. The modal reduction hands them to the eigen-solve, which gives their
-  /// storage back before its factorization (large solids: the peak memory); reduce() takes the input
-  /// by value for that.
+  /// K and M on the free DOF. The modal reduction hands them over to the eigen-solve, which gives their
+  /// storage back before its factorization (large solids: the peak memory): after reduce() they are
+  /// empty then.
   SparseMatrix stiffness;
   SparseMatrix mass;
+  /// K and M hold their lower triangles only (modal reduction only: Craig-Bampton needs both).
+  bool lower_triangles = false;
   std::vector<int> boundary_dofs;           ///< free-DOF indices kept physical (Craig-Bampton, Guyan)
   std::vector<std::string> boundary_names;  ///< one per boundary DOF, e.g. "main1.rx"
   int rigid_body_modes = 0;                 ///< how many zero-frequency modes the unsupported model has
@@ -67,6 +69,6 @@ struct ReducedModel {
 
 /// nvh::Error when fmax lies below the first (elastic or fixed-interface) mode, the interior is not
 /// restrained by the boundary DOF (a mechanism), or a method needs interfaces that the model lacks.
-ReducedModel reduce(ReductionInput input, const Logger& log);
+ReducedModel reduce(ReductionInput& input, const Logger& log);
 
 }  // namespace nvh::condense

@@ -226,20 +226,34 @@ std::string format_vector(const Eigen::Vector3d& v) {
   return s.str();
 }
 
-/// The Jacobian J = dx/dxi (J_ik = sum_a x_i^a dN_a/dxi_k) at one point.
-struct MappedPoint {
-  Eigen::VectorXd N;
-  Eigen::MatrixXd dN_dxi;
-  Eigen::Matrix3d J;
-  double det = 0.0;
+/// The shape functions and their natural derivatives at the points of a rule: the same for every
+/// element of a type, so computed once per type and rule (not per element and point).
+struct ShapeTable {
+  std::vector<Eigen::VectorXd> N;       ///< per point: n
+  std::vector<Eigen::MatrixXd> dN_dxi;  ///< per point: n x 3
 };
-MappedPoint map_point(SolidType type, const Eigen::Matrix<double, 3, Eigen::Dynamic>& nodes,
-                      const Eigen::Vector3d& xi) {
-  MappedPoint p;
-  shape_functions(type, xi, p.N, p.dN_dxi);
-  p.J = nodes * p.dN_dxi;
-  p.det = p.J.determinant();
-  return p;
+const ShapeTable& shape_table(SolidType type, Integrand what) {
+  static const std::array<ShapeTable, 8> tables = [] {
+    std::array<ShapeTable, 8> t;
+    for (SolidType ty : {SolidType::kTet4, SolidType::kTet10, SolidType::kHex8, SolidType::kHex20}) {
+      for (Integrand w : {Integrand::kStiffness, Integrand::kMass}) {
+        ShapeTable& table = t[2 * static_cast<int>(ty) + static_cast<int>(w)];
+        for (const Eigen::Vector3d& xi : quadrature_rule(ty, w).points) {
+          table.N.emplace_back();
+          table.dN_dxi.emplace_back();
+          shape_functions(ty, xi, table.N.back(), table.dN_dxi.back());
+        }
+      }
+    }
+    return t;
+  }();
+  return tables[2 * static_cast<int>(type) + static_cast<int>(what)];
+}
+
+/// The Jacobian J = dx/dxi (J_ik = sum_a x_i^a dN_a/dxi_k) at one point.
+Eigen::Matrix3d jacobian(const Eigen::Matrix<double, 3, Eigen::Dynamic>& nodes,
+                         const Eigen::MatrixXd& dN_dxi) {
+  return nodes * dN_dxi;
 }
 
 /// Throws unless det J is positive at every integration point of both rules. A determinant below
@@ -252,16 +266,18 @@ void check_jacobian(SolidType type, const Eigen::Matrix<double, 3, Eigen::Dynami
   int bad = 0, total = 0;
   const QuadratureRule& stiffness_rule = quadrature_rule(type, Integrand::kStiffness);
   const QuadratureRule& mass_rule = quadrature_rule(type, Integrand::kMass);
-  std::vector<const QuadratureRule*> rules = {&stiffness_rule};
-  if (&mass_rule != &stiffness_rule) rules.push_back(&mass_rule);  // hexes: one rule for both
-  for (const QuadratureRule* rule : rules) {
-    for (const Eigen::Vector3d& xi : rule->points) {
-      const double det = map_point(type, nodes, xi).det;
+  std::vector<Integrand> rules = {Integrand::kStiffness};
+  if (&mass_rule != &stiffness_rule) rules.push_back(Integrand::kMass);  // hexes: one rule for both
+  for (const Integrand what : rules) {
+    const QuadratureRule& rule = quadrature_rule(type, what);
+    const ShapeTable& table = shape_table(type, what);
+    for (std::size_t q = 0; q < rule.points.size(); ++q) {
+      const double det = jacobian(nodes, table.dN_dxi[q]).determinant();
       ++total;
       if (!(det > tolerance)) ++bad;
       if (det < min_det || std::isnan(det)) {
         min_det = det;
-        min_xi = xi;
+        min_xi = rule.points[q];
       }
     }
   }
@@ -276,27 +292,6 @@ void check_jacobian(SolidType type, const Eigen::Matrix<double, 3, Eigen::Dynami
       << format_vector(min_xi) << ", x = " << format_vector(nodes * N)
       << " m (check the node order against the Abaqus/CalculiX numbering)";
   throw Error(msg.str());
-}
-
-/// Strain-displacement matrix B (6 x 3n) from the Cartesian derivatives dN/dx (n x 3), for the strain
-/// (e_xx, e_yy, e_zz, gamma_xy, gamma_yz, gamma_zx).
-Eigen::MatrixXd strain_displacement(const Eigen::MatrixXd& dN_dx) {
-  const int n = static_cast<int>(dN_dx.rows());
-  Eigen::MatrixXd B = Eigen::MatrixXd::Zero(6, 3 * n);
-  for (int a = 0; a < n; ++a) {
-    const double bx = dN_dx(a, 0), by = dN_dx(a, 1), bz = dN_dx(a, 2);
-    const int c = 3 * a;
-    B(0, c) = bx;
-    B(1, c + 1) = by;
-    B(2, c + 2) = bz;
-    B(3, c) = by;
-    B(3, c + 1) = bx;
-    B(4, c + 1) = bz;
-    B(4, c + 2) = by;
-    B(5, c) = bz;
-    B(5, c + 2) = bx;
-  }
-  return B;
 }
 
 }  // namespace
@@ -412,26 +407,44 @@ SolidElementMatrices solid_element(SolidType type, const Eigen::Matrix<double, 3
   check_jacobian(type, nodes);
 
   SolidElementMatrices out;
+  // K = int B^T D B dV with the isotropic D (Lame constants lambda, mu): the 3 x 3 block of nodes i, j
+  // is, with the gradients g_i = dN_i/dx = J^-T dN_i/dxi,
+  //   K_ij = int lambda g_i g_j^T + mu g_j g_i^T + mu (g_i . g_j) 1 dV
+  // (the same as B_i^T D B_j written out, without the zeros of B), summed as sum_q w_q det J (...).
   const Eigen::Matrix<double, 6, 6> D = isotropic_elasticity(material);
-
-  // K = int B^T D B dV = sum_q w_q B^T D B det J, with dN/dx = dN/dxi J^-1.
+  const double lambda = D(0, 1), mu = D(3, 3);
   out.stiffness = Eigen::MatrixXd::Zero(3 * n, 3 * n);
   const QuadratureRule& stiffness_rule = quadrature_rule(type, Integrand::kStiffness);
+  const ShapeTable& stiffness_shapes = shape_table(type, Integrand::kStiffness);
+  Eigen::Matrix<double, Eigen::Dynamic, 3> g(n, 3);
   for (std::size_t q = 0; q < stiffness_rule.points.size(); ++q) {
-    const MappedPoint p = map_point(type, nodes, stiffness_rule.points[q]);
-    const Eigen::MatrixXd B = strain_displacement(p.dN_dxi * p.J.inverse());
-    out.stiffness.noalias() += (stiffness_rule.weights[q] * p.det) * (B.transpose() * (D * B));
+    const Eigen::Matrix3d J = jacobian(nodes, stiffness_shapes.dN_dxi[q]);
+    const double w = stiffness_rule.weights[q] * J.determinant();
+    g.noalias() = stiffness_shapes.dN_dxi[q] * J.inverse();
+    for (int j = 0; j < n; ++j) {
+      const Eigen::RowVector3d gj = w * g.row(j);
+      for (int i = 0; i <= j; ++i) {  // upper blocks; the lower ones are mirrored below
+        const Eigen::RowVector3d gi = g.row(i);
+        Eigen::Matrix3d k = lambda * gi.transpose() * gj + mu * gj.transpose() * gi;
+        k.diagonal().array() += mu * gi.dot(gj);
+        out.stiffness.block<3, 3>(3 * i, 3 * j) += k;
+      }
+    }
   }
-  out.stiffness = 0.5 * (out.stiffness + out.stiffness.transpose()).eval();
+  // Exactly symmetric (the diagonal blocks' products above were rounded in different orders).
+  for (int c = 0; c < 3 * n; ++c)
+    for (int r = c + 1; r < 3 * n; ++r) out.stiffness(r, c) = out.stiffness(c, r);
 
   // M_ij = int rho N_i N_j dV and V = int dV, with the (higher-order) mass rule.
   out.scalar_mass = Eigen::MatrixXd::Zero(n, n);
-  const QuadratureRule& mass_rule = quadrature_rule(
-      type, mass_quadrature == MassQuadrature::kExact ? Integrand::kMass : Integrand::kStiffness);
+  const Integrand mass_integrand =
+      mass_quadrature == MassQuadrature::kExact ? Integrand::kMass : Integrand::kStiffness;
+  const QuadratureRule& mass_rule = quadrature_rule(type, mass_integrand);
+  const ShapeTable& mass_shapes = shape_table(type, mass_integrand);
   for (std::size_t q = 0; q < mass_rule.points.size(); ++q) {
-    const MappedPoint p = map_point(type, nodes, mass_rule.points[q]);
-    const double dV = mass_rule.weights[q] * p.det;
-    out.scalar_mass.noalias() += (material.rho * dV) * (p.N * p.N.transpose());
+    const double dV = mass_rule.weights[q] * jacobian(nodes, mass_shapes.dN_dxi[q]).determinant();
+    const Eigen::VectorXd& N = mass_shapes.N[q];
+    out.scalar_mass.noalias() += (material.rho * dV) * (N * N.transpose());
     out.volume += dV;
   }
   return out;

@@ -240,25 +240,7 @@ Mesh load_volume_mesh(const Component& c) {
 }
 
 FeModel build_volume_model(const Component& c) {
-  FeModel model = build_volume_model(c, load_volume_mesh(c));
-  add_component_masses(model);
-  return model;
-}
-
-void add_component_masses(FeModel& model) {
-  // int rho N_a^T N_b dV: displacement component a at node i times component b at node j is the
-  // scalar mass m_ij, which M_all holds at (6 i + a, 6 j + a) for every a; read it from a = 0.
-  const SparseMatrix& m = model.mass_all;
-  for (int a = 0; a < 3; ++a) {
-    for (int b = 0; b < 3; ++b) {
-      std::vector<Eigen::Triplet<double>> t;
-      for (Eigen::Index col = 0; col < m.outerSize(); col += 6)
-        for (SparseMatrix::InnerIterator it(m, col); it; ++it)
-          if (it.row() % 6 == 0) t.emplace_back(it.row() + a, col + b, it.value());
-      model.component_mass_all[a][b].resize(m.rows(), m.cols());
-      model.component_mass_all[a][b].setFromTriplets(t.begin(), t.end());
-    }
-  }
+  return build_volume_model(c, load_volume_mesh(c));
 }
 
 FeModel build_volume_model(const Component& c, const Mesh& mesh) {
@@ -282,14 +264,15 @@ FeModel build_volume_model(const Component& c, const Mesh& mesh) {
   // Solid nodes move by translations only; nodes no element uses are not part of the model at all.
   model.inactive_dof.assign(n_all, true);
   std::map<std::string, int> types;
-  // Assembly in place (block_assembly.hpp): stiffness couples all translation components, the mass
-  // each with itself, and the component masses int rho N_a^T N_b dV one pair (a, b) each.
+  // Assembly in place (block_assembly.hpp): the stiffness couples all translation components; the mass
+  // is the scalar m_ij = int rho N_i N_j dV alone (the nodal mass is m (x) I_3 on the translations, and
+  // the mass invariants follow from m and the nodal shapes: invariants.hpp).
   const NodeGraph graph = node_graph(mesh_nodes, mesh.elements);
-  std::array<std::array<bool, 3>, 3> all{}, diagonal{};
+  std::array<std::array<bool, 3>, 3> all{};
   for (int a = 0; a < 3; ++a)
-    for (int b = 0; b < 3; ++b) all[a][b] = true, diagonal[a][b] = a == b;
-  BlockAssembler kt(graph, n_nodes, all), mt(graph, n_nodes, diagonal);
-  model.position_moment_all = Eigen::MatrixXd::Zero(n_all, 9);
+    for (int b = 0; b < 3; ++b) all[a][b] = true;
+  BlockAssembler kt(graph, n_nodes, all);
+  NodeAssembler mt(graph, n_nodes);
   for (std::size_t k = 0; k < mesh.elements.size(); ++k) {
     const MeshElement& e = mesh.elements[k];
     const SolidType type = parse_solid_type(e.type);
@@ -313,17 +296,9 @@ FeModel build_volume_model(const Component& c, const Mesh& mesh) {
       for (int j = 0; j < n; ++j) {
         const int nj = e.nodes[j];
         const int p = graph.position(nj, ni);  // row node ni among column node nj's neighbours
-        const double mij = m.scalar_mass(i, j);
-        for (int a = 0; a < 3; ++a) {
-          for (int b = 0; b < 3; ++b) {
-            kt.add(p, a, nj, b, m.stiffness(3 * i + a, 3 * j + b));
-          }
-          mt.add(p, a, nj, a, mij);
-        }
-        // int rho x_k u_A dV = sum_j m_ij x_k(j) u_A(i): the position is interpolated like u.
-        for (int k = 0; k < 3; ++k)
-          for (int a = 0; a < 3; ++a)
-            model.position_moment_all(6 * ni + a, 3 * k + a) += mij * model.nodes[nj](k);
+        for (int a = 0; a < 3; ++a)
+          for (int b = 0; b < 3; ++b) kt.add(p, a, nj, b, m.stiffness(3 * i + a, 3 * j + b));
+        mt.add(p, nj, m.scalar_mass(i, j));
       }
     }
     ++model.element_count;
@@ -331,9 +306,8 @@ FeModel build_volume_model(const Component& c, const Mesh& mesh) {
   std::string kinds;
   for (const auto& [name, count] : types) kinds += (kinds.empty() ? "" : " + ") + name;
   model.element_kind = kinds + " elements";
-  model.stiffness_all = kt.take();
-  model.mass_all = mt.take();
-  // The component masses (component_mass_all) follow from the mass later: add_component_masses().
+  kt.take(model.stiffness_all);
+  mt.take(model.scalar_mass);
 
   model.surface = extract_surface(mesh);
   std::vector<bool> on_surface(mesh_nodes, false);

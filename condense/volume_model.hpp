@@ -1,7 +1,8 @@
 #pragma once
 // The finite-element model of a 3D solid component from a mesh made elsewhere (Abaqus/CalculiX .inp
 // with C3D4, C3D10, C3D8 or C3D20 elements): isotropic linear elasticity, consistent mass, supports
-// on boxes of nodes. Solid nodes carry translations only; their rotation DOF are inactive.
+// on boxes of nodes. Solid nodes carry translations only; their rotation DOF are inactive. The mass is
+// kept as the N x N scalar mass (FeModel::scalar_mass), not as a 6N x 6N matrix.
 #include "condense/abaqus_mesh.hpp"
 #include "condense/component.hpp"
 #include "condense/fe_model.hpp"
@@ -17,11 +18,7 @@ Mesh load_volume_mesh(const Component& component);
 /// points far from their surface.
 FeModel build_volume_model(const Component& component, const Mesh& mesh);
 
-/// Both steps, and add_component_masses.
+/// Both steps.
 FeModel build_volume_model(const Component& component);
-
-/// The section-resolved masses component_mass_all (for the inertia invariants), from mass_all. The
-/// two-step build leaves them out, so that they do not take memory during the factorization.
-void add_component_masses(FeModel& model);
 
 }  // namespace nvh::condense

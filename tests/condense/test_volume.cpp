@@ -5,6 +5,8 @@
 // supports. Same elements, same mesh: the frequencies must agree to 0.05 % (issue 3's bar).
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
+#include <array>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -14,6 +16,8 @@
 #include "condense/component_reader.hpp"
 #include "condense/condense.hpp"
 #include "condense/gmsh_mesh.hpp"
+#include "condense/invariants.hpp"
+#include "condense/solid_element.hpp"
 #include "condense/surface.hpp"
 #include "condense/volume_model.hpp"
 #include "structured_mesh.hpp"
@@ -604,6 +608,202 @@ TEST_F(VolumeInput, UnknownNodeSetListsTheMeshSets) {
   EXPECT_EQ(e.key(), "interface[1].surface");
   EXPECT_NE(std::string(e.what()).find("\"BORE1\" is not in the mesh"), std::string::npos) << e.what();
   EXPECT_NE(std::string(e.what()).find("END"), std::string::npos) << e.what();
+}
+
+// ---------------------------------------------------------------------------------------------
+// Mass properties and invariants of solids, which the model keeps as the N x N scalar mass
+// m_ij = int rho N_i N_j dV: against the closed form of a box, and against the 6N x 6N formulas.
+
+/// A steel box a x b x c (C3D10, 2 x 2 x 2 cells) turned by `rotation` and moved by `offset`, free, with a
+/// rigid coupling on its face x_local = 0 and a distributing one on x_local = a.
+class TurnedBox : public ::testing::Test {
+ protected:
+  static constexpr double a = 0.3, b = 0.2, c = 0.1, rho = 7850.0;
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("nvh_turned_box_" + std::to_string(::getpid()));
+    fs::create_directories(dir_);
+    mesh_ = testing::BoxMesher({a, b, c}, {2, 2, 2}).tet10();
+    for (int n = 0; n < static_cast<int>(mesh_.nodes.size()); ++n) {
+      if (mesh_.nodes[n].x() < 1e-12) mesh_.node_sets["NEAR"].push_back(n);
+      if (mesh_.nodes[n].x() > a - 1e-12) mesh_.node_sets["FAR"].push_back(n);
+      mesh_.nodes[n] = place(mesh_.nodes[n]);
+    }
+    std::ofstream out(dir_ / "box.inp");
+    write_abaqus_mesh(mesh_, out);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  /// Box axes to component axes.
+  Eigen::Vector3d place(const Eigen::Vector3d& x) const { return rotation * x + offset; }
+  Component box(MassQuadrature quadrature = MassQuadrature::kExact) const {
+    Component comp;
+    comp.name = "box";
+    comp.kind = "volume";
+    comp.materials["steel"] = Material{"steel", 210e9, 0.3, rho};
+    comp.volume.mesh = dir_ / "box.inp";
+    comp.volume.material = "steel";
+    comp.volume.mass_like_calculix = quadrature == MassQuadrature::kStiffnessRule;
+    NamedPoint near, far;
+    near.name = "near";
+    near.surface = "NEAR";
+    far.name = "far";
+    far.surface = "FAR";
+    far.distributing = true;
+    const Eigen::Vector3d p = place({-0.01, b / 2, c / 2}), q = place({a + 0.01, b / 2, c / 2});
+    near.at = {p.x(), p.y(), p.z()};
+    far.at = {q.x(), q.y(), q.z()};
+    comp.interfaces = {near, far};
+    return comp;
+  }
+
+  const Eigen::Matrix3d rotation = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).matrix();
+  const Eigen::Vector3d offset{0.5, -0.2, 0.1};
+  fs::path dir_;
+  Mesh mesh_;
+};
+
+/// Largest difference relative to the largest entry of the reference.
+double relative_difference(const Eigen::MatrixXd& x, const Eigen::MatrixXd& reference) {
+  return (x - reference).cwiseAbs().maxCoeff() / reference.cwiseAbs().maxCoeff();
+}
+
+TEST_F(TurnedBox, RigidBodyInertiaIsTheClosedForm) {
+  // m = rho a b c, centre at the box's middle, J_c = m / 12 diag(b^2 + c^2, a^2 + c^2, a^2 + b^2) in box
+  // axes. The consistent mass integrates x_k x_l exactly on straight-sided elements, with either rule
+  // (the position is interpolated exactly and x_k x_l is of degree 2).
+  const double m = rho * a * b * c;
+  const Eigen::Vector3d centre = place({a / 2, b / 2, c / 2});
+  const Eigen::Matrix3d J = rotation *
+                            Eigen::Vector3d(b * b + c * c, a * a + c * c, a * a + b * b).asDiagonal() *
+                            rotation.transpose() * (m / 12.0);
+  const Eigen::Matrix3d J_origin =
+      J + m * (centre.squaredNorm() * Eigen::Matrix3d::Identity() - centre * centre.transpose());
+  for (const MassQuadrature rule : {MassQuadrature::kExact, MassQuadrature::kStiffnessRule}) {
+    const FeModel model = build_volume_model(box(rule));
+    const RigidBodyInertia r = rigid_body_inertia(model);
+    EXPECT_NEAR(r.mass / m, 1.0, 1e-13);
+    EXPECT_LT((r.center_of_mass - centre).norm() / centre.norm(), 1e-13);
+    EXPECT_LT(relative_difference(r.inertia, J), 1e-12);
+    EXPECT_LT(relative_difference(r.inertia_origin, J_origin), 1e-12);
+  }
+}
+
+TEST_F(TurnedBox, ModalInvariantsOfRigidMotionsAreTheMassProperties) {
+  // For the shapes S = the rigid-body field (unit translations e_j, unit rotations e_k x x), the
+  // invariants are the box's mass properties: S_bar = [m I, -m [c]x], S_rot = [m [c]x, J_o], and the
+  // quadratic terms of two translations int rho S_k,i S_l,j dV = m delta_ki delta_lj.
+  const double m = rho * a * b * c;
+  const Eigen::Vector3d centre = place({a / 2, b / 2, c / 2});
+  const Eigen::Matrix3d J = rotation *
+                            Eigen::Vector3d(b * b + c * c, a * a + c * c, a * a + b * b).asDiagonal() *
+                            rotation.transpose() * (m / 12.0);
+  const Eigen::Matrix3d J_origin =
+      J + m * (centre.squaredNorm() * Eigen::Matrix3d::Identity() - centre * centre.transpose());
+  Eigen::Matrix3d c_cross;
+  c_cross << 0, -centre.z(), centre.y(), centre.z(), 0, -centre.x(), -centre.y(), centre.x(), 0;
+  Eigen::MatrixXd translational(3, 6), rotational(3, 6);
+  translational << m * Eigen::Matrix3d::Identity(), -m * c_cross;
+  rotational << m * c_cross, J_origin;
+
+  const FeModel model = build_volume_model(box());
+  const ModalInvariants inv = modal_invariants(model, model.rigid_body_field());
+  EXPECT_LT(relative_difference(inv.translational, translational), 1e-12);
+  EXPECT_LT(relative_difference(inv.rotational, rotational), 1e-12);
+  for (int k = 0; k < 3; ++k) {
+    for (int l = 0; l < 3; ++l) {
+      Eigen::Matrix3d expected = Eigen::Matrix3d::Zero();
+      expected(k, l) = m;
+      EXPECT_LT((inv.quadratic[3 * k + l].topLeftCorner<3, 3>() - expected).cwiseAbs().maxCoeff() / m, 1e-12)
+          << "S_" << k << l;
+    }
+  }
+}
+
+TEST_F(TurnedBox, FreeStiffnessAndMassAreExactlySymmetric) {
+  // T^T K T and T^T M T through rigid and distributing couplings: symmetric to the last bit (the
+  // eigen-solve would otherwise hold a symmetrized copy), their lower triangles alone the same, and M = T^T
+  // (m (x) I_3) T formed from the scalar mass equals the product with the 6N x 6N mass, assembled here.
+  const FeModel model = build_volume_model(box());
+  const SparseMatrix K = model.stiffness(), M = model.mass();
+  EXPECT_EQ(SparseMatrix(K - SparseMatrix(K.transpose())).norm(), 0.0);
+  EXPECT_EQ(SparseMatrix(M - SparseMatrix(M.transpose())).norm(), 0.0);
+  // The lower triangles alone are those of the full matrices.
+  const SparseMatrix K_lower = model.stiffness(FeModel::Triangles::kLower);
+  const SparseMatrix M_lower = model.mass(FeModel::Triangles::kLower);
+  EXPECT_EQ(K_lower.nonZeros(), SparseMatrix(K.triangularView<Eigen::Lower>()).nonZeros());
+  EXPECT_EQ(SparseMatrix(K_lower - SparseMatrix(K.triangularView<Eigen::Lower>())).norm(), 0.0);
+  EXPECT_EQ(SparseMatrix(M_lower - SparseMatrix(M.triangularView<Eigen::Lower>())).norm(), 0.0);
+  std::vector<Eigen::Triplet<double>> mt;
+  for (const MeshElement& e : mesh_.elements) {
+    Eigen::Matrix<double, 3, Eigen::Dynamic> x(3, e.nodes.size());
+    for (std::size_t i = 0; i < e.nodes.size(); ++i) x.col(i) = mesh_.nodes[e.nodes[i]];
+    const SolidElementMatrices em = solid_element(SolidType::kTet10, x, IsotropicMaterial{210e9, 0.3, rho});
+    for (std::size_t i = 0; i < e.nodes.size(); ++i)
+      for (std::size_t j = 0; j < e.nodes.size(); ++j)
+        for (int k = 0; k < 3; ++k)
+          mt.emplace_back(6 * e.nodes[i] + k, 6 * e.nodes[j] + k, em.scalar_mass(i, j));
+  }
+  SparseMatrix M_all(model.all_dofs(), model.all_dofs());
+  M_all.setFromTriplets(mt.begin(), mt.end());
+  const Eigen::MatrixXd reference = Eigen::MatrixXd(model.transform.transpose() * M_all * model.transform);
+  EXPECT_LT(relative_difference(Eigen::MatrixXd(M), reference), 1e-14);
+}
+
+TEST_F(TurnedBox, InvariantsEqualTheNodalMassMatrixFormulas) {
+  // The model keeps only m_ij and forms the invariants from the shapes' translations U_a. Reference: the
+  // 6N x 6N formulas on matrices assembled here element by element, M_all(6i+a, 6j+a) = m_ij and the
+  // section-resolved C_kl(6i+k, 6j+l) = m_ij (Shabana eq. 5.99-5.110): R^T M R, R^T M S, S^T p_kl with
+  // p_kl = M X_kl (X_kl: x_k at the DOF l), S^T C_kl S - for shapes through both couplings.
+  const FeModel model = build_volume_model(box());
+  const Eigen::Index n_all = model.all_dofs();
+  std::vector<Eigen::Triplet<double>> mt;
+  std::array<std::array<std::vector<Eigen::Triplet<double>>, 3>, 3> ct;
+  for (const MeshElement& e : mesh_.elements) {
+    Eigen::Matrix<double, 3, Eigen::Dynamic> x(3, e.nodes.size());
+    for (std::size_t i = 0; i < e.nodes.size(); ++i) x.col(i) = mesh_.nodes[e.nodes[i]];
+    const SolidElementMatrices em = solid_element(SolidType::kTet10, x, IsotropicMaterial{210e9, 0.3, rho});
+    for (std::size_t i = 0; i < e.nodes.size(); ++i)
+      for (std::size_t j = 0; j < e.nodes.size(); ++j)
+        for (int k = 0; k < 3; ++k) {
+          mt.emplace_back(6 * e.nodes[i] + k, 6 * e.nodes[j] + k, em.scalar_mass(i, j));
+          for (int l = 0; l < 3; ++l)
+            ct[k][l].emplace_back(6 * e.nodes[i] + k, 6 * e.nodes[j] + l, em.scalar_mass(i, j));
+        }
+  }
+  SparseMatrix M(n_all, n_all);
+  M.setFromTriplets(mt.begin(), mt.end());
+  const Eigen::MatrixXd R = model.rigid_body_field();
+  const Eigen::MatrixXd shapes = model.transform * Eigen::MatrixXd::Random(model.free_dofs(), 7);
+  // Slaves of the rigid coupling drop out, the two points add 6 DOF each, the distributing coupling
+  // makes 6 surface DOF dependent.
+  const int mesh_nodes = static_cast<int>(mesh_.nodes.size()),
+            near = static_cast<int>(mesh_.node_sets["NEAR"].size());
+  ASSERT_EQ(model.free_dofs(), 3 * (mesh_nodes - near) + 6 + 6 - 6);
+
+  const RigidBodyInertia r = rigid_body_inertia(model);
+  const RigidBodyInertia r_ref = rigid_body_inertia(Eigen::Matrix<double, 6, 6>(R.transpose() * (M * R)));
+  EXPECT_NEAR(r.mass / r_ref.mass, 1.0, 1e-12);
+  EXPECT_LT(relative_difference(r.center_of_mass, r_ref.center_of_mass), 1e-12);
+  EXPECT_LT(relative_difference(r.inertia, r_ref.inertia), 1e-12);
+  EXPECT_LT(relative_difference(r.inertia_origin, r_ref.inertia_origin), 1e-12);
+  EXPECT_LT(relative_difference(r.second_moment, r_ref.second_moment), 1e-12);
+
+  const ModalInvariants inv = modal_invariants(model, shapes);
+  const Eigen::MatrixXd MS = M * shapes;
+  EXPECT_LT(relative_difference(inv.translational, R.leftCols(3).transpose() * MS), 1e-12);
+  EXPECT_LT(relative_difference(inv.rotational, R.rightCols(3).transpose() * MS), 1e-12);
+  for (int k = 0; k < 3; ++k) {
+    for (int l = 0; l < 3; ++l) {
+      Eigen::VectorXd X = Eigen::VectorXd::Zero(n_all);
+      for (std::size_t i = 0; i < model.nodes.size(); ++i) X(6 * i + l) = model.nodes[i](k);
+      const Eigen::VectorXd p = M * X;
+      EXPECT_LT(relative_difference(inv.position[3 * k + l], shapes.transpose() * p), 1e-12) << k << l;
+      SparseMatrix C(n_all, n_all);
+      C.setFromTriplets(ct[k][l].begin(), ct[k][l].end());
+      EXPECT_LT(relative_difference(inv.quadratic[3 * k + l], shapes.transpose() * (C * shapes)), 1e-12)
+          << k << l;
+    }
+  }
 }
 
 }  // namespace

@@ -111,13 +111,15 @@ TEST_F(TwoMaterialBar, MassCentreAndInertiaOfTheTwoHalves) {
   EXPECT_NEAR(inertia.inertia(1, 1) / Jyy, 1.0, 1e-12);
   EXPECT_NEAR(inertia.inertia(2, 2) / Jyy, 1.0, 1e-12);
 
-  // The section-resolved masses and position moments the modal invariants use (Shabana eq. 5.99-5.110):
-  // for the rigid x translation e_x, e_x^T M_xx e_x = m and e_x^T P_(k,x) = int rho x_k dV = m c_k.
-  Eigen::VectorXd ex = Eigen::VectorXd::Zero(model.all_dofs());
-  for (std::size_t n = 0; n < model.nodes.size(); ++n) ex(6 * n) = 1.0;
-  EXPECT_NEAR(ex.dot(model.component_mass_all[0][0] * ex) / m, 1.0, 1e-12);
+  // The scalar mass the modal invariants use (Shabana eq. 5.99-5.110): 1^T m 1 = m, and with the
+  // interpolated position x_k, 1^T m x_k = int rho x_k dV = m c_k.
+  const Eigen::Index N = static_cast<Eigen::Index>(model.nodes.size());
+  const Eigen::VectorXd ones = Eigen::VectorXd::Ones(N);
+  EXPECT_NEAR(ones.dot(model.scalar_mass * ones) / m, 1.0, 1e-12);
   for (int k = 0; k < 3; ++k) {
-    EXPECT_NEAR(ex.dot(model.position_moment_all.col(3 * k)) / (m * c(k)), 1.0, 1e-12) << "axis " << k;
+    Eigen::VectorXd x(N);
+    for (Eigen::Index n = 0; n < N; ++n) x(n) = model.nodes[n](k);
+    EXPECT_NEAR(ones.dot(model.scalar_mass * x) / (m * c(k)), 1.0, 1e-12) << "axis " << k;
   }
 }
 
