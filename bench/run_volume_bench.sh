@@ -89,12 +89,17 @@ dofs = "x y z"
 method = "modal"
 modes = 30
 TOML
-  /usr/bin/time -f "%e %U %S %M" -o "$dir/condense.time" "$condense" "$dir/block.toml" -o "$dir/block.h5" -v \
+  OMP_NUM_THREADS=1 /usr/bin/time -f "%e %U %S %M" -o "$dir/condense.time" "$condense" "$dir/block.toml" -o "$dir/block.h5" -v \
     --ordering "${ORDERING:-auto}" > "$dir/condense.log" 2>&1
   read -r c_wall c_user c_sys c_kb < "$dir/condense.time"
   c_s=$(awk -v u="$c_user" -v s="$c_sys" 'BEGIN {printf "%.1f", u + s}')
   /usr/bin/python3 -c "import h5py; print('\n'.join(str(f) for f in h5py.File('$dir/block.h5')['/modes/frequency_hz'][:]))" \
     > "$dir/condense.freq"
+  # The BLAS kernels condense ran (it selects OpenBLAS's own for a CPU that OpenBLAS 0.3.21 does not know,
+  # common/blas_kernels.hpp): ccx (ARPACK, LAPACK) gets the same.
+  kernels=$(/usr/bin/python3 -c "import h5py; print(h5py.File('$dir/block.h5')['/model'].attrs.get('blas_kernels', ''))")
+  coretype=""
+  [[ "$kernels" == OpenBLAS* ]] && coretype="${kernels#OpenBLAS }"
   x_s="-"; x_kb=""; ratio="-"; mratio="-"; df="-"
   if [[ $run_ccx == 1 ]]; then
     cat > "$dir/job.inp" <<INP
@@ -115,7 +120,8 @@ MOUNT4, 1, 3
 30
 *END STEP
 INP
-    (cd "$dir" && OMP_NUM_THREADS=1 /usr/bin/time -f "%e %U %S %M" -o ccx.time ccx -i job > ccx.log 2>&1)
+    (cd "$dir" && OMP_NUM_THREADS=1 OPENBLAS_CORETYPE="${OPENBLAS_CORETYPE:-$coretype}" \
+      /usr/bin/time -f "%e %U %S %M" -o ccx.time ccx -i job > ccx.log 2>&1)
     read -r x_wall x_user x_sys x_kb < "$dir/ccx.time"
     x_s=$(awk -v u="$x_user" -v s="$x_sys" 'BEGIN {printf "%.1f", u + s}')
     ccx_frequencies "$dir/job.dat" > "$dir/ccx.freq"
@@ -127,6 +133,6 @@ INP
   printf "%-8s %8s %8s | %9s %9.0f | %9s %9s | %7s %7s | %9s\n" "$h" "$nodes" "$dofs" "$c_s" "$(awk -v k="$c_kb" 'BEGIN {print k / 1024}')" \
     "$x_s" "$x_kb" "$ratio" "$mratio" "$df"
   grep -E "stages|factor:" "$dir/condense.log" | sed 's/^/    condense /'
-  echo "    wall time [s]: condense $c_wall${x_wall:+, ccx $x_wall}"
+  echo "    wall time [s]: condense $c_wall${x_wall:+, ccx $x_wall}; BLAS: $kernels"
 done
 echo "load average after: $(cut -d' ' -f1-3 /proc/loadavg)"
