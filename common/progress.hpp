@@ -25,6 +25,8 @@ class Progress {
   Progress& operator=(const Progress&) = delete;
 
   void update(std::int64_t done);
+  /// A better estimate of the total (an iteration that needs more steps than first thought).
+  void set_total(std::int64_t total) { total_ = total; }
   /// The same with a detail appended to the bar or line (e.g. "t = 0.12 s, 1440 deg, 850 steps/s").
   void update(std::int64_t done, const std::string& detail);
   /// Final line with the elapsed time ("label: done in 3.2 s").

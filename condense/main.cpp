@@ -167,13 +167,17 @@ int main(int argc, char** argv) {
     }
 
     // The eigen-solve is the long stage: a bar on a terminal, plain lines in batch logs.
+    // A new Lanczos run (the count starts again) gets a new bar; a run that needs more solves than
+    // expected (restarts) moves its bar's total.
     std::unique_ptr<Progress> bar;
-    int bar_total = 0;
+    int bar_done = 0;
     const EigenProgress progress = [&](int done, int expected) {
-      if (!bar || expected != bar_total) {
+      if (!bar || done < bar_done) {
         bar = std::make_unique<Progress>(log, "eigen-solve", expected);
-        bar_total = expected;
+      } else {
+        bar->set_total(expected);
       }
+      bar_done = done;
       bar->update(std::min(done, expected));
     };
     CondenseRun run;
