@@ -708,13 +708,13 @@ EigenResult solve_eigenproblem(SparseMatrix&& K, SparseMatrix&& M, const EigenRe
   // Eigenvalues closer than this count as equal (rigid modes near 0, whose computed eigenvalues are
   // round-off of the order of eps lambda_max; ||K||_1 / max M_ii is of the order of lambda_max).
   const double max_mass = M.diagonal().maxCoeff();
-  double absolute_gap = 1e-10 * symmetric_norm1(K, request.lower_triangles) / max_mass;
   // K and M go into the pencil (lower triangles, K as K - sigma M): no more copies from here on.
   const double sigma = dense || request.stiffness_factor ? 0.0
                        : request.shift < 0.0             ? request.shift
                                                          : automatic_shift(K, M, request);
   Pencil pencil;
   make_pencil(K, M, sigma, request.lower_triangles, pencil);
+  double absolute_gap = 1e-10 * pencil.k_norm1 / max_mass;
   if (!dense) {
     ShiftInvertOperator op = request.stiffness_factor ? ShiftInvertOperator(pencil, request.stiffness_factor)
                                                       : ShiftInvertOperator(pencil, sigma, request.ordering);
