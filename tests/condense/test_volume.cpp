@@ -657,6 +657,24 @@ class TurnedBox : public ::testing::Test {
   }
 
   const Eigen::Matrix3d rotation = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).matrix();
+  /// The box's closed-form mass properties: m = rho a b c, its centre, J_c = m / 12 diag(b^2 + c^2,
+  /// a^2 + c^2, a^2 + b^2) in box axes turned to global ones, and J_o by the parallel axis theorem.
+  struct MassProperties {
+    double m;
+    Eigen::Vector3d centre;
+    Eigen::Matrix3d J, J_origin;
+  };
+  MassProperties mass_properties() const {
+    const double m = rho * a * b * c;
+    const Eigen::Vector3d centre = place({a / 2, b / 2, c / 2});
+    const Eigen::Matrix3d J = rotation *
+                              Eigen::Vector3d(b * b + c * c, a * a + c * c, a * a + b * b).asDiagonal() *
+                              rotation.transpose() * (m / 12.0);
+    const Eigen::Matrix3d J_origin =
+        J + m * (centre.squaredNorm() * Eigen::Matrix3d::Identity() - centre * centre.transpose());
+    return {m, centre, J, J_origin};
+  }
+
   const Eigen::Vector3d offset{0.5, -0.2, 0.1};
   fs::path dir_;
   Mesh mesh_;
@@ -671,13 +689,7 @@ TEST_F(TurnedBox, RigidBodyInertiaIsTheClosedForm) {
   // m = rho a b c, centre at the box's middle, J_c = m / 12 diag(b^2 + c^2, a^2 + c^2, a^2 + b^2) in box
   // axes. The consistent mass integrates x_k x_l exactly on straight-sided elements, with either rule
   // (the position is interpolated exactly and x_k x_l is of degree 2).
-  const double m = rho * a * b * c;
-  const Eigen::Vector3d centre = place({a / 2, b / 2, c / 2});
-  const Eigen::Matrix3d J = rotation *
-                            Eigen::Vector3d(b * b + c * c, a * a + c * c, a * a + b * b).asDiagonal() *
-                            rotation.transpose() * (m / 12.0);
-  const Eigen::Matrix3d J_origin =
-      J + m * (centre.squaredNorm() * Eigen::Matrix3d::Identity() - centre * centre.transpose());
+  const auto [m, centre, J, J_origin] = mass_properties();
   for (const MassQuadrature rule : {MassQuadrature::kExact, MassQuadrature::kStiffnessRule}) {
     const FeModel model = build_volume_model(box(rule));
     const RigidBodyInertia r = rigid_body_inertia(model);
@@ -692,13 +704,7 @@ TEST_F(TurnedBox, ModalInvariantsOfRigidMotionsAreTheMassProperties) {
   // For the shapes S = the rigid-body field (unit translations e_j, unit rotations e_k x x), the
   // invariants are the box's mass properties: S_bar = [m I, -m [c]x], S_rot = [m [c]x, J_o], and the
   // quadratic terms of two translations int rho S_k,i S_l,j dV = m delta_ki delta_lj.
-  const double m = rho * a * b * c;
-  const Eigen::Vector3d centre = place({a / 2, b / 2, c / 2});
-  const Eigen::Matrix3d J = rotation *
-                            Eigen::Vector3d(b * b + c * c, a * a + c * c, a * a + b * b).asDiagonal() *
-                            rotation.transpose() * (m / 12.0);
-  const Eigen::Matrix3d J_origin =
-      J + m * (centre.squaredNorm() * Eigen::Matrix3d::Identity() - centre * centre.transpose());
+  const auto [m, centre, J, J_origin] = mass_properties();
   Eigen::Matrix3d c_cross;
   c_cross << 0, -centre.z(), centre.y(), centre.z(), 0, -centre.x(), -centre.y(), centre.x(), 0;
   Eigen::MatrixXd translational(3, 6), rotational(3, 6);
