@@ -1,6 +1,9 @@
 // Ground, rigid bodies and point masses (see body.hpp for the coordinates and equations).
 #include "solve/body.hpp"
 
+#include <algorithm>
+#include <cmath>
+
 namespace nvh::solve {
 namespace {
 Eigen::Map<const Vec3> vec3(std::span<const double> s, int at) { return Eigen::Map<const Vec3>(s.data() + at); }
@@ -21,6 +24,103 @@ int Body::find_marker(const std::string& name) const {
   for (std::size_t k = 0; k < markers_.size(); ++k)
     if (markers_[k].name == name) return static_cast<int>(k);
   return -1;
+}
+
+// ---------------------------------------------------------------- defaults: local differences
+namespace {
+/// The increment of a local difference in coordinate x.
+double increment(double x) { return 1e-7 * std::max(1.0, std::abs(x)); }
+/// The small rotation theta with B = exp(theta~) A for nearby rotations A, B (to second order).
+Vec3 rotation_between(const Mat3& a, const Mat3& b) {
+  const Mat3 r = b * a.transpose();
+  return 0.5 * Vec3(r(2, 1) - r(1, 2), r(0, 2) - r(2, 0), r(1, 0) - r(0, 1));
+}
+}  // namespace
+
+void Body::add_wrench(int marker, std::span<const double> q, const Vec3& force, const Vec3& torque,
+                      std::span<double> generalized) const {
+  const MarkerJacobian j = marker_jacobian(marker, q);
+  Eigen::Map<Eigen::VectorXd>(generalized.data(), j.jv.cols()) += j.jv.transpose() * force + j.jw.transpose() * torque;
+}
+
+void Body::marker_sensitivity(int marker, std::span<const double> q, std::span<const double> w,
+                              Eigen::Ref<Eigen::MatrixXd> out) const {
+  std::vector<double> qq(q.begin(), q.end());
+  for (int k = 0; k < position_count(); ++k) {
+    const double h = increment(q[k]);
+    qq[k] = q[k] + h;
+    const MarkerMotion p = marker_motion(marker, qq, w);
+    qq[k] = q[k] - h;
+    const MarkerMotion m = marker_motion(marker, qq, w);
+    qq[k] = q[k];
+    out.block<3, 1>(0, k) = (p.position - m.position) / (2 * h);
+    out.block<3, 1>(3, k) = rotation_between(m.axes, p.axes) / (2 * h);
+    out.block<3, 1>(6, k) = (p.velocity - m.velocity) / (2 * h);
+    out.block<3, 1>(9, k) = (p.angular_velocity - m.angular_velocity) / (2 * h);
+  }
+}
+
+void Body::add_wrench_derivative(int marker, std::span<const double> q, const Vec3& force, const Vec3& torque,
+                                 Eigen::Ref<Eigen::MatrixXd> out) const {
+  std::vector<double> qq(q.begin(), q.end());
+  Eigen::VectorXd gp(velocity_count()), gm(velocity_count());
+  for (int k = 0; k < position_count(); ++k) {
+    const double h = increment(q[k]);
+    gp.setZero();
+    gm.setZero();
+    qq[k] = q[k] + h;
+    add_wrench(marker, qq, force, torque, {gp.data(), std::size_t(gp.size())});
+    qq[k] = q[k] - h;
+    add_wrench(marker, qq, force, torque, {gm.data(), std::size_t(gm.size())});
+    qq[k] = q[k];
+    out.col(k) += (gp - gm) / (2 * h);
+  }
+}
+
+void Body::kinematic_jacobian(std::span<const double> q, std::span<const double> w_eff,
+                              Eigen::Ref<Eigen::MatrixXd> d_q, Eigen::Ref<Eigen::MatrixXd> d_w) const {
+  const int nq = position_count(), nw = velocity_count();
+  const std::vector<double> zero(nq, 0.0);
+  std::vector<double> qq(q.begin(), q.end()), ww(w_eff.begin(), w_eff.end());
+  Eigen::VectorXd rp(nq), rm(nq);
+  auto eval = [&](Eigen::VectorXd& r) { kinematic_residual(qq, zero, ww, {}, {r.data(), std::size_t(nq)}, {}); };
+  for (int k = 0; k < nq; ++k) {
+    const double h = increment(q[k]);
+    qq[k] = q[k] + h, eval(rp);
+    qq[k] = q[k] - h, eval(rm);
+    qq[k] = q[k];
+    d_q.col(k) = (rp - rm) / (2 * h);
+  }
+  for (int k = 0; k < nw; ++k) {
+    const double h = increment(w_eff[k]);
+    ww[k] = w_eff[k] + h, eval(rp);
+    ww[k] = w_eff[k] - h, eval(rm);
+    ww[k] = w_eff[k];
+    d_w.col(k) = (rp - rm) / (2 * h);
+  }
+}
+
+void Body::inertia_jacobian(std::span<const double> q, std::span<const double> w, std::span<const double> wdot,
+                            const Vec3& gravity, Eigen::Ref<Eigen::MatrixXd> d_q,
+                            Eigen::Ref<Eigen::MatrixXd> d_w) const {
+  const int nq = position_count(), nw = velocity_count();
+  std::vector<double> qq(q.begin(), q.end()), ww(w.begin(), w.end());
+  Eigen::VectorXd rp(nw), rm(nw);
+  auto eval = [&](Eigen::VectorXd& r) { inertia_residual(qq, ww, wdot, gravity, {r.data(), std::size_t(nw)}); };
+  for (int k = 0; k < nq; ++k) {
+    const double h = increment(q[k]);
+    qq[k] = q[k] + h, eval(rp);
+    qq[k] = q[k] - h, eval(rm);
+    qq[k] = q[k];
+    d_q.col(k) = (rp - rm) / (2 * h);
+  }
+  for (int k = 0; k < nw; ++k) {
+    const double h = increment(w[k]);
+    ww[k] = w[k] + h, eval(rp);
+    ww[k] = w[k] - h, eval(rm);
+    ww[k] = w[k];
+    d_w.col(k) = (rp - rm) / (2 * h);
+  }
 }
 
 // ---------------------------------------------------------------- ground
@@ -95,6 +195,65 @@ MarkerJacobian RigidBody::marker_jacobian(int marker, std::span<const double> q)
   return j;
 }
 
+// Derivatives (Theta = d theta / dp, rotation.hpp): with s = A s0 the marker offset, every rotating vector
+// x = A x0 changes by dtheta x x = -x~ dtheta, so
+//   dp_m/dp = -s~ Theta,  dv_m/dp = -(A (omega x s0))~ Theta,  domega_m/dp = -(A omega)~ Theta.
+void RigidBody::marker_sensitivity(int marker, std::span<const double> q, std::span<const double> w,
+                                   Eigen::Ref<Eigen::MatrixXd> out) const {
+  const Vec4 p = vec4(q, 3);
+  const Mat3 a = rotation_matrix(p);
+  const Mat34 theta = rotation_sensitivity(p);
+  const Vec3 s0 = markers()[marker].position, omega = vec3(w, 3);
+  out.setZero();
+  out.block<3, 3>(0, 0) = Mat3::Identity();
+  out.block<3, 4>(0, 3) = -skew(a * s0) * theta;
+  out.block<3, 4>(3, 3) = theta;
+  out.block<3, 4>(6, 3) = -skew(a * omega.cross(s0)) * theta;
+  out.block<3, 4>(9, 3) = -skew(a * omega) * theta;
+}
+
+// Q = [F; s0~ A^T F + A^T T]; d(A^T x)/dp = A^T x~ Theta.
+void RigidBody::add_wrench(int marker, std::span<const double> q, const Vec3& force, const Vec3& torque,
+                           std::span<double> generalized) const {
+  const Mat3 a = rotation_matrix(vec4(q, 3));
+  const Vec3 s0 = markers()[marker].position;
+  Eigen::Map<Vec3>(generalized.data()) += force;
+  Eigen::Map<Vec3>(generalized.data() + 3) += s0.cross(a.transpose() * force) + a.transpose() * torque;
+}
+void RigidBody::add_wrench_derivative(int marker, std::span<const double> q, const Vec3& force, const Vec3& torque,
+                                      Eigen::Ref<Eigen::MatrixXd> out) const {
+  const Vec4 p = vec4(q, 3);
+  const Mat3 at = rotation_matrix(p).transpose();
+  const Mat34 theta = rotation_sensitivity(p);
+  out.block<3, 4>(3, 3) += (skew(markers()[marker].position) * at * skew(force) + at * skew(torque)) * theta;
+}
+
+// Rows r' - v, p' - 1/2 L(p)^T omega + beta (p.p - 1) p  (L(p)^T omega = B(omega) p, rotation.hpp).
+void RigidBody::kinematic_jacobian(std::span<const double> q, std::span<const double> w_eff,
+                                   Eigen::Ref<Eigen::MatrixXd> d_q, Eigen::Ref<Eigen::MatrixXd> d_w) const {
+  const Vec4 p = vec4(q, 3);
+  d_q.setZero();
+  d_w.setZero();
+  d_q.block<4, 4>(3, 3) = -0.5 * rate_matrix(vec3(w_eff, 3)) +
+                          kNormalizationRate * ((p.squaredNorm() - 1.0) * Eigen::Matrix4d::Identity() +
+                                                2.0 * p * p.transpose());
+  d_w.block<3, 3>(0, 0) = -Mat3::Identity();
+  d_w.block<4, 3>(3, 3) = -0.5 * l_matrix(p).transpose();
+}
+
+// Rows m (v' - g), J omega' + omega x J omega.
+void RigidBody::inertia_jacobian(std::span<const double>, std::span<const double> w, std::span<const double>,
+                                 const Vec3&, Eigen::Ref<Eigen::MatrixXd> d_q, Eigen::Ref<Eigen::MatrixXd> d_w) const {
+  const Vec3 omega = vec3(w, 3);
+  d_q.setZero();
+  d_w.setZero();
+  d_w.block<3, 3>(3, 3) = skew(omega) * inertia_ - skew(inertia_ * omega);
+}
+
+double RigidBody::potential_energy(std::span<const double> q, const Vec3& gravity) const {
+  return -mass_ * gravity.dot(vec3(q, 0));
+}
+
 Vec3 RigidBody::reference_position(std::span<const double> q) const { return vec3(q, 0); }
 Mat3 RigidBody::rotation(std::span<const double> q) const { return rotation_matrix(vec4(q, 3)); }
 double RigidBody::kinetic_energy(std::span<const double>, std::span<const double> w) const {
@@ -134,6 +293,31 @@ MarkerJacobian PointMass::marker_jacobian(int, std::span<const double>) const {
   j.jv = Mat3::Identity();
   return j;
 }
+void PointMass::add_wrench(int, std::span<const double>, const Vec3& force, const Vec3&,
+                           std::span<double> generalized) const {
+  Eigen::Map<Vec3>(generalized.data()) += force;
+}
+void PointMass::marker_sensitivity(int, std::span<const double>, std::span<const double>,
+                                   Eigen::Ref<Eigen::MatrixXd> out) const {
+  out.setZero();
+  out.block<3, 3>(0, 0) = Mat3::Identity();
+}
+void PointMass::add_wrench_derivative(int, std::span<const double>, const Vec3&, const Vec3&,
+                                      Eigen::Ref<Eigen::MatrixXd>) const {}
+void PointMass::kinematic_jacobian(std::span<const double>, std::span<const double>, Eigen::Ref<Eigen::MatrixXd> d_q,
+                                   Eigen::Ref<Eigen::MatrixXd> d_w) const {
+  d_q.setZero();
+  d_w = -Eigen::MatrixXd::Identity(3, 3);
+}
+void PointMass::inertia_jacobian(std::span<const double>, std::span<const double>, std::span<const double>,
+                                 const Vec3&, Eigen::Ref<Eigen::MatrixXd> d_q, Eigen::Ref<Eigen::MatrixXd> d_w) const {
+  d_q.setZero();
+  d_w.setZero();
+}
+double PointMass::potential_energy(std::span<const double> q, const Vec3& gravity) const {
+  return -mass_ * gravity.dot(vec3(q, 0));
+}
+
 Vec3 PointMass::reference_position(std::span<const double> q) const { return vec3(q, 0); }
 double PointMass::kinetic_energy(std::span<const double>, std::span<const double> w) const {
   return 0.5 * mass_ * vec3(w, 0).squaredNorm();

@@ -94,6 +94,32 @@ class Body {
   virtual Mat3 rotation(std::span<const double> q) const = 0;
   /// Kinetic energy (tests, output).
   virtual double kinetic_energy(std::span<const double> q, std::span<const double> w) const = 0;
+  /// Potential energy of gravity (-m g . r_cm) and elastic strain, J; power of structural damping, W.
+  virtual double potential_energy(std::span<const double> q, const Vec3& gravity) const = 0;
+  virtual double dissipated_power(std::span<const double>, std::span<const double>) const { return 0; }
+
+  /// Q += Jv^T F + Jw^T T: the generalized force (size of w) of a force F and torque T (global) at a marker's
+  /// origin, by virtual power. The default forms the marker Jacobian; bodies override it without allocating.
+  virtual void add_wrench(int marker, std::span<const double> q, const Vec3& force, const Vec3& torque,
+                          std::span<double> generalized) const;
+
+  // --- Derivatives for the analytic Jacobian of the model (model.hpp). The defaults differentiate the
+  // functions above by local finite differences (this body alone); rigid bodies and point masses override
+  // them with closed forms. The kinematic rows must have the form q' - f(q, w_eff).
+  /// d[p; theta; v; omega]/dq of a marker at (q, w): 12 x nq, theta a small rotation of the marker frame in
+  /// global axes (dA = theta~ A). The derivatives with respect to w are marker_jacobian's Jv and Jw.
+  virtual void marker_sensitivity(int marker, std::span<const double> q, std::span<const double> w,
+                                  Eigen::Ref<Eigen::MatrixXd> out) const;
+  /// out += d(Jv^T F + Jw^T T)/dq at fixed F and T (nw x nq).
+  virtual void add_wrench_derivative(int marker, std::span<const double> q, const Vec3& force,
+                                     const Vec3& torque, Eigen::Ref<Eigen::MatrixXd> out) const;
+  /// Kinematic rows q' - f(q, w_eff): d/dq (nq x nq) and d/dw_eff (nq x nw), written (not added).
+  virtual void kinematic_jacobian(std::span<const double> q, std::span<const double> w_eff,
+                                  Eigen::Ref<Eigen::MatrixXd> d_q, Eigen::Ref<Eigen::MatrixXd> d_w) const;
+  /// Inertial rows M(q) w' + h(q, w) - Q_gravity: d/dq (nw x nq) and d/dw (nw x nw), written; d/dw' = M(q).
+  virtual void inertia_jacobian(std::span<const double> q, std::span<const double> w,
+                                std::span<const double> wdot, const Vec3& gravity, Eigen::Ref<Eigen::MatrixXd> d_q,
+                                Eigen::Ref<Eigen::MatrixXd> d_w) const;
 
  private:
   std::string name_;
@@ -120,6 +146,8 @@ class Ground final : public Body {
   Vec3 reference_position(std::span<const double>) const override { return Vec3::Zero(); }
   Mat3 rotation(std::span<const double>) const override { return Mat3::Identity(); }
   double kinetic_energy(std::span<const double>, std::span<const double>) const override { return 0; }
+  double potential_energy(std::span<const double>, const Vec3&) const override { return 0; }
+  void add_wrench(int, std::span<const double>, const Vec3&, const Vec3&, std::span<double>) const override {}
 };
 
 /// The kinematic rows of a floating frame, q = [r (3), p (4), ...], w = [v (3), omega_body (3), ...]:
@@ -161,6 +189,18 @@ class RigidBody final : public Body {
   Vec3 reference_position(std::span<const double> q) const override;
   Mat3 rotation(std::span<const double> q) const override;
   double kinetic_energy(std::span<const double> q, std::span<const double> w) const override;
+  double potential_energy(std::span<const double> q, const Vec3& gravity) const override;
+  void add_wrench(int marker, std::span<const double> q, const Vec3& force, const Vec3& torque,
+                  std::span<double> generalized) const override;
+  void marker_sensitivity(int marker, std::span<const double> q, std::span<const double> w,
+                          Eigen::Ref<Eigen::MatrixXd> out) const override;
+  void add_wrench_derivative(int marker, std::span<const double> q, const Vec3& force, const Vec3& torque,
+                             Eigen::Ref<Eigen::MatrixXd> out) const override;
+  void kinematic_jacobian(std::span<const double> q, std::span<const double> w_eff, Eigen::Ref<Eigen::MatrixXd> d_q,
+                          Eigen::Ref<Eigen::MatrixXd> d_w) const override;
+  void inertia_jacobian(std::span<const double> q, std::span<const double> w, std::span<const double> wdot,
+                        const Vec3& gravity, Eigen::Ref<Eigen::MatrixXd> d_q,
+                        Eigen::Ref<Eigen::MatrixXd> d_w) const override;
 
   double mass() const { return mass_; }
   const Mat3& inertia() const { return inertia_; }
@@ -193,6 +233,18 @@ class PointMass final : public Body {
   Vec3 reference_position(std::span<const double> q) const override;
   Mat3 rotation(std::span<const double>) const override { return Mat3::Identity(); }
   double kinetic_energy(std::span<const double> q, std::span<const double> w) const override;
+  double potential_energy(std::span<const double> q, const Vec3& gravity) const override;
+  void add_wrench(int marker, std::span<const double> q, const Vec3& force, const Vec3& torque,
+                  std::span<double> generalized) const override;
+  void marker_sensitivity(int marker, std::span<const double> q, std::span<const double> w,
+                          Eigen::Ref<Eigen::MatrixXd> out) const override;
+  void add_wrench_derivative(int marker, std::span<const double> q, const Vec3& force, const Vec3& torque,
+                             Eigen::Ref<Eigen::MatrixXd> out) const override;
+  void kinematic_jacobian(std::span<const double> q, std::span<const double> w_eff, Eigen::Ref<Eigen::MatrixXd> d_q,
+                          Eigen::Ref<Eigen::MatrixXd> d_w) const override;
+  void inertia_jacobian(std::span<const double> q, std::span<const double> w, std::span<const double> wdot,
+                        const Vec3& gravity, Eigen::Ref<Eigen::MatrixXd> d_q,
+                        Eigen::Ref<Eigen::MatrixXd> d_w) const override;
   double mass() const { return mass_; }
 
  private:

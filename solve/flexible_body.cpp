@@ -308,6 +308,14 @@ double FlexibleBody::kinetic_energy(std::span<const double> q, std::span<const d
   return 0.5 * wv.dot(mass_matrix(q) * wv);
 }
 
+double FlexibleBody::potential_energy(std::span<const double> q, const Vec3& gravity) const {
+  return -data_.mass * gravity.dot(center_of_mass(q)) + strain_energy(q);
+}
+double FlexibleBody::dissipated_power(std::span<const double>, std::span<const double> w) const {
+  const Eigen::Map<const Eigen::VectorXd> rate(w.data() + 6, n_);
+  return rate.dot(data_.damping * rate);
+}
+
 double FlexibleBody::strain_energy(std::span<const double> q) const {
   const auto eta = tail(q, 7, n_);
   return 0.5 * eta.dot(data_.stiffness * eta);

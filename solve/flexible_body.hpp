@@ -77,6 +77,9 @@ class FlexibleBody final : public Body {
   Vec3 reference_position(std::span<const double> q) const override;
   Mat3 rotation(std::span<const double> q) const override;
   double kinetic_energy(std::span<const double> q, std::span<const double> w) const override;
+  /// -m g . r_cm + 1/2 eta^T K eta (J), and the modal damping's power eta'^T D eta' (W).
+  double potential_energy(std::span<const double> q, const Vec3& gravity) const override;
+  double dissipated_power(std::span<const double> q, std::span<const double> w) const override;
 
   const FlexibleData& data() const { return data_; }
   Coupling coupling() const { return coupling_; }

@@ -29,7 +29,7 @@ class GeneralizedAlpha final : public Integrator {
   GeneralizedAlpha(const Model& model, const IntegratorSettings& s, double t0, const Eigen::VectorXd& y0,
                    const Eigen::VectorXd& yp0)
       : model_(model), s_(s), jacobian_(model, s.jacobian == "dense-fd"), t_(t0), y_(y0), yp_(yp0),
-        y_prev_(y0), yp_prev_(yp0), t_prev_(t0), h_(s.step), mask_(model.differential_mask()) {
+        y_prev_(y0), yp_prev_(yp0), t_prev_(t0), h_(s.step), mask_(model.error_test_mask()) {
     const double rho = s.rho_inf;
     alpha_m_ = (3 - rho) / (2 * (1 + rho));
     alpha_f_ = 1 / (1 + rho);
@@ -156,7 +156,10 @@ class GeneralizedAlpha final : public Integrator {
   void factor(double ta, const Eigen::VectorXd& ya, const Eigen::VectorXd& ypa, const Eigen::VectorXd& f,
               double cj, double h, const Eigen::VectorXd& weights) {
     const auto start = Clock::now();
-    jacobian_.evaluate(ta, ya, ypa, f, cj, h, weights, values_);
+    if (s_.jacobian == "analytic")
+      model_.jacobian(ta, ya.data(), ypa.data(), cj, values_);
+    else
+      jacobian_.evaluate(ta, ya, ypa, f, cj, h, weights, values_);
     ++stats_.jacobian_evaluations;
     stats_.cpu_jacobian_s += seconds(Clock::now() - start);
     std::copy(values_.begin(), values_.end(), matrix_.valuePtr());

@@ -20,7 +20,7 @@ struct IntegratorSettings {
   double rho_inf = 0.8;          // generalized-alpha spectral radius at infinity
   double step = 1e-4;            // generalized-alpha step (s); adapted if `adaptive`
   bool adaptive = true;          // generalized-alpha: halve the step when Newton fails, grow it back
-  std::string jacobian = "colored-fd";  // "colored-fd" (sparse) or "dense-fd"
+  std::string jacobian = "analytic";  // "analytic" (model.hpp), "colored-fd" (sparse differences) or "dense-fd"
 };
 
 /// What the results file reports under /solver/statistics.

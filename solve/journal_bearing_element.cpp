@@ -6,6 +6,8 @@
 
 #include "common/error.hpp"
 #include "solve/bearing/bearing_reader.hpp"
+#include "solve/element_registry.hpp"
+#include "solve/elements/builtin.hpp"
 
 namespace nvh::solve {
 
@@ -29,8 +31,7 @@ bool same(const bearing::Kinematics& a, const bearing::Kinematics& b) {
 }
 }  // namespace
 
-const bearing::FilmResult& JournalBearingElement::film(const MarkerMotion& i, const MarkerMotion& j) const {
-  const bearing::Kinematics k = kinematics(i, j);
+const bearing::FilmResult& JournalBearingElement::film(const bearing::Kinematics& k) const {
   if (last_kinematics_ && same(*last_kinematics_, k)) return last_result_;
   try {
     last_result_ = bearing_.evaluate(k);
@@ -44,22 +45,76 @@ const bearing::FilmResult& JournalBearingElement::film(const MarkerMotion& i, co
   return last_result_;
 }
 
-ElementForce JournalBearingElement::evaluate(const ForceContext&, const MarkerMotion& i,
-                                             const MarkerMotion& j) const {
+const bearing::FilmResult& JournalBearingElement::film(const MarkerMotion& i, const MarkerMotion& j) const {
+  return film(kinematics(i, j));
+}
+
+void JournalBearingElement::evaluate(const ElementInput& in, ElementOutput& out) const {
+  const MarkerMotion &i = in.markers[0], &j = in.markers[1];
   const bearing::FilmResult& r = film(i, j);
   const Vec3 force = j.axes.col(0) * r.force.x() + j.axes.col(1) * r.force.y();
-  return {force, r.torque_journal * j.axes.col(2), i.position};
+  apply_at_i(in, out, force, r.torque_journal * j.axes.col(2), i.position);
 }
 
-std::vector<std::string> JournalBearingElement::channel_names() const {
-  return {"eccentricity_ratio", "attitude_angle_rad", "min_film_m",   "max_pressure_pa",
-          "friction_torque_nm", "power_loss_w",       "oil_flow_m3_s"};
+bool JournalBearingElement::jacobian(const ElementInput& in, ElementJacobian& jac) const {
+  const MarkerMotion &i = in.markers[0], &j = in.markers[1];
+  const bearing::Kinematics k0 = kinematics(i, j);
+  const bearing::FilmResult r0 = film(k0);
+  if (!r0.force.allFinite()) return false;
+  const Vec3 x = j.axes.col(0), y = j.axes.col(1), z = j.axes.col(2);
+  const Vec3 d = i.position - j.position, dd = i.velocity - j.velocity;
+
+  // G: d(Fx, Fy, Tj) / d(ex, ey, ex', ey', omega_journal, omega_shell).
+  Eigen::Matrix<double, 3, 6> g = Eigen::Matrix<double, 3, 6>::Zero();
+  g.topLeftCorner<2, 4>() = r0.jacobian;
+  const double c = bearing_.spec().radial_clearance;
+  const double omega_scale = std::max({1.0, std::abs(k0.omega_journal), std::abs(k0.omega_shell)});
+  for (int col = 0; col < 6; ++col) {
+    bearing::Kinematics k = k0;
+    double* v = col < 2 ? &k.e[col] : col < 4 ? &k.e_dot[col - 2] : col == 4 ? &k.omega_journal : &k.omega_shell;
+    const double step = col < 2 ? 1e-7 * c : col < 4 ? 1e-7 * (c * omega_scale + k0.e_dot.norm()) : 1e-7 * omega_scale;
+    const double old = *v;
+    *v += step;
+    const double h = *v - old;  // the step as represented
+    const bearing::FilmResult& r = film(k);
+    if (!r.force.allFinite()) return false;
+    g(2, col) = (r.torque_journal - r0.torque_journal) / h;
+    if (col >= 4) g.block<2, 1>(0, col) = (r.force - r0.force) / h;
+  }
+  // K: d(kinematics)/d(marker columns): [dp_i 0-2, dth_i 3-5, dv_i 6-8, dw_i 9-11, dp_j 12-14, dth_j 15-17,
+  // dv_j 18-20, dw_j 21-23].
+  Eigen::Matrix<double, 6, 24> kin = Eigen::Matrix<double, 6, 24>::Zero();
+  kin.block<1, 3>(0, 0) = x.transpose(), kin.block<1, 3>(0, 12) = -x.transpose();
+  kin.block<1, 3>(1, 0) = y.transpose(), kin.block<1, 3>(1, 12) = -y.transpose();
+  kin.block<1, 3>(0, 15) = x.cross(d).transpose(), kin.block<1, 3>(1, 15) = y.cross(d).transpose();
+  kin.block<1, 3>(2, 6) = x.transpose(), kin.block<1, 3>(2, 18) = -x.transpose();
+  kin.block<1, 3>(3, 6) = y.transpose(), kin.block<1, 3>(3, 18) = -y.transpose();
+  kin.block<1, 3>(2, 15) = x.cross(dd).transpose(), kin.block<1, 3>(3, 15) = y.cross(dd).transpose();
+  kin.block<1, 3>(4, 9) = z.transpose(), kin.block<1, 3>(4, 15) = z.cross(i.angular_velocity).transpose();
+  kin.block<1, 3>(5, 21) = z.transpose(), kin.block<1, 3>(5, 15) += z.cross(j.angular_velocity).transpose();
+  const Eigen::Matrix<double, 3, 24> dfilm = g * kin;  // d(Fx, Fy, Tj)/d(columns)
+
+  Eigen::Matrix<double, 3, 2> xy;
+  xy << x, y;
+  const Vec3 force = xy * r0.force;
+  ElementRows df = zero_rows(jac), dt = zero_rows(jac);
+  df.leftCols<24>() = xy * dfilm.topRows<2>();
+  df.block<3, 3>(0, 15) -= skew(force);  // the force turns with the shell's axes
+  dt.leftCols<24>() = z * dfilm.row(2);
+  dt.block<3, 3>(0, 15) -= r0.torque_journal * skew(z);
+  jacobian_at_i(in, jac, df, dt, force);
+  film(k0);  // leave the cache (and the warm start) at this state
+  return true;
 }
 
-void JournalBearingElement::channels(const ForceContext&, const MarkerMotion& i, const MarkerMotion& j,
-                                     std::span<double> out) const {
-  const bearing::Kinematics k = kinematics(i, j);
-  const bearing::FilmResult& r = film(i, j);
+std::vector<Channel> JournalBearingElement::channels() const {
+  return {{"eccentricity_ratio", "1"}, {"attitude_angle", "rad"}, {"min_film", "m"},      {"max_pressure", "Pa"},
+          {"friction_torque", "N m"},  {"power_loss", "W"},        {"oil_flow", "m^3/s"}};
+}
+
+void JournalBearingElement::channel_values(const ElementInput& in, std::span<double> out) const {
+  const bearing::Kinematics k = kinematics(in.markers[0], in.markers[1]);
+  const bearing::FilmResult& r = film(k);
   const double c = bearing_.spec().radial_clearance;
   out[0] = k.e.norm() / c;
   // Attitude angle: from the load line (the external load on the journal, -F) to the line of centres (e),
@@ -75,8 +130,17 @@ void JournalBearingElement::channels(const ForceContext&, const MarkerMotion& i,
   out[6] = r.side_flow;
 }
 
-std::unique_ptr<ForceElement> make_journal_bearing(const input::Table& t) {
-  return std::make_unique<JournalBearingElement>(bearing::read_bearing(t));
+ElementEnergy JournalBearingElement::energy(const ElementInput& in) const {
+  return {0.0, film(in.markers[0], in.markers[1]).power_loss};
+}
+
+void register_journal_bearing(ElementRegistry& r) {
+  r.add({"force", "journal-bearing",
+         "hydrodynamic journal bearing (short, long or finite Reynolds with JFO cavitation; keys of docs/bearing.md) "
+         "between journal centre i and shell centre j (z_j the bearing axis)",
+         {"i", "j"}, [](ElementContext& c) -> std::unique_ptr<ForceElement> {
+           return std::make_unique<JournalBearingElement>(bearing::read_bearing(c.table));
+         }});
 }
 
 }  // namespace nvh::solve

@@ -18,6 +18,11 @@
 // the discrete film equations at this state, independent of the call order to within the Newton tolerance
 // (test WarmStartDoesNotDependOnHistory). A repeated call at the same state returns the cached result.
 //
+// Jacobian: the film force's derivatives by (e, de/dt) come from the bearing model itself (the finite model's
+// implicit-function Jacobian, the closed forms' own); those by the two surface speeds and the torque's by six
+// further film evaluations (forward differences, warm-started). Marker axes enter through e = A_j^T d: a small
+// rotation dtheta of marker j changes x_j . d by (x_j x d) . dtheta.
+//
 // Failures inside a time step (|e| >= c, or a finite-bearing Newton solve that does not converge) return a
 // non-finite force: the integrator treats that as a recoverable residual failure and cuts the step.
 #include <memory>
@@ -33,17 +38,21 @@ class JournalBearingElement final : public ForceElement {
  public:
   explicit JournalBearingElement(bearing::BearingSpec spec);
   std::string type() const override { return "journal-bearing"; }
-  ElementForce evaluate(const ForceContext& c, const MarkerMotion& i, const MarkerMotion& j) const override;
-  /// eccentricity_ratio, attitude_angle_rad, min_film_m, max_pressure_pa, friction_torque_nm, power_loss_w,
-  /// oil_flow_m3_s (side flow through both edges).
-  std::vector<std::string> channel_names() const override;
-  void channels(const ForceContext& c, const MarkerMotion& i, const MarkerMotion& j,
-                std::span<double> out) const override;
+  int marker_count() const override { return 2; }
+  void evaluate(const ElementInput& in, ElementOutput& out) const override;
+  bool jacobian(const ElementInput& in, ElementJacobian& jac) const override;
+  /// eccentricity_ratio, attitude_angle, min_film, max_pressure, friction_torque, power_loss, oil_flow (side flow
+  /// through both edges).
+  std::vector<Channel> channels() const override;
+  void channel_values(const ElementInput& in, std::span<double> out) const override;
+  /// The film's power loss is dissipated; a film stores no energy.
+  ElementEnergy energy(const ElementInput& in) const override;
 
   /// The film kinematics this element sees between the two markers (see the top of this file).
   static bearing::Kinematics kinematics(const MarkerMotion& i, const MarkerMotion& j);
   /// The film result at these markers (cached for a repeated state); the force is NaN on failure.
   const bearing::FilmResult& film(const MarkerMotion& i, const MarkerMotion& j) const;
+  const bearing::FilmResult& film(const bearing::Kinematics& k) const;
   const bearing::JournalBearing& bearing() const { return bearing_; }
 
  private:
@@ -52,8 +61,5 @@ class JournalBearingElement final : public ForceElement {
   mutable bearing::FilmResult last_result_;
 };
 
-/// Build from a scene's [[force]] table with type = "journal-bearing" (bearing keys as in docs/bearing.md,
-/// read by bearing::read_bearing); the caller calls t.finish().
-std::unique_ptr<ForceElement> make_journal_bearing(const input::Table& t);
 
 }  // namespace nvh::solve

@@ -1,4 +1,4 @@
-// The model's state layout, residual and consistent initial conditions (see model.hpp for the equations).
+// The model's state layout, residual, analytic Jacobian and consistent initial conditions (see model.hpp).
 #include "solve/model.hpp"
 
 #include <algorithm>
@@ -6,22 +6,69 @@
 #include <set>
 #include <sstream>
 
+#include <Eigen/Geometry>
+
 #include "common/error.hpp"
 
 namespace nvh::solve {
+
+// Preallocated per model (finalize): nothing in the residual or the Jacobian of rigid bodies and point masses
+// allocates.
+struct Model::Workspace {
+  Eigen::VectorXd q_force, ct_lambda, ct_mu, w_eff;
+  std::vector<std::vector<MarkerMotion>> motions;  // per force element
+  std::vector<std::vector<Wrench>> wrenches;       // per force element
+  std::vector<ConstraintEquations> equations;      // per constraint
+  std::vector<ConstraintEquations> perturbed;      // per constraint (local differences)
+  std::vector<double> lambda_scratch;
+  // Jacobian
+  Eigen::MatrixXd dense;                         // n x n
+  Eigen::VectorXd f_scratch;                     // n
+  SparsityPattern pattern;
+  std::vector<Eigen::MatrixXd> element_jacobian;  // per force element
+  std::vector<Eigen::MatrixXd> element_rows_p, element_rows_m;  // per force element: wrench + state rows
+  std::vector<Eigen::MatrixXd> kin_dw;            // per body: d(kinematic rows)/d(w_eff)
+  std::vector<Eigen::MatrixXd> sens_i, sens_j;    // per force-element marker / constraint (12 x nq)
+  Eigen::MatrixXd scratch_q, scratch_w, mass;
+  std::vector<MarkerMotion> motion_scratch;
+  std::vector<Wrench> wrench_scratch_p, wrench_scratch_m;
+  std::vector<double> state_scratch_p, state_scratch_m, z_scratch, zp_scratch;
+};
+
+Model::Model() : ws_(std::make_unique<Workspace>()) {}
+Model::~Model() = default;
+Model::Model(Model&&) noexcept = default;
+Model& Model::operator=(Model&&) noexcept = default;
 
 void Model::finalize() {
   body_offset_.clear();
   w_global_offset_.clear();
   int k = 0;
   n_w_ = 0;
+  int max_nw = 0;
   for (const auto& b : bodies) {
+    if (b->algebraic_count() != 0)
+      throw Error("body '" + b->name() + "': bodies with algebraic coordinates are not supported by the model");
     body_offset_.push_back(k);
     k += b->state_count();
     w_global_offset_.push_back(n_w_);
     n_w_ += b->velocity_count();
+    max_nw = std::max(max_nw, b->velocity_count());
   }
   clock_index_ = clock ? k++ : -1;
+  n_gaps_ = 0;
+  for (auto& f : forces) {
+    if (static_cast<int>(f.markers.size()) != f.element->marker_count())
+      throw Error("force element '" + f.name + "' of type " + f.element->type() + " needs " +
+                  std::to_string(f.element->marker_count()) + " markers, got " + std::to_string(f.markers.size()));
+    f.state_offset = k;
+    f.state_count = static_cast<int>(f.element->states().size());
+    k += f.state_count;
+    f.gap_offset = n_gaps_;
+    n_gaps_ += f.element->gap_count();
+  }
+  energy_offset_ = k;
+  k += 2;
   n_eq_ = 0;
   for (auto& c : constraints) {
     c.first_row = n_eq_;
@@ -31,6 +78,36 @@ void Model::finalize() {
   lambda_offset_ = k;
   mu_offset_ = k + n_eq_;
   size_ = k + 2 * n_eq_;
+
+  auto& w = *ws_;
+  w.q_force.resize(n_w_);
+  w.ct_lambda.resize(n_w_);
+  w.ct_mu.resize(n_w_);
+  w.w_eff.resize(max_nw);
+  w.motions.clear();
+  w.wrenches.clear();
+  w.element_jacobian.clear();
+  w.element_rows_p.clear();
+  w.element_rows_m.clear();
+  for (const auto& f : forces) {
+    const int nm = static_cast<int>(f.markers.size());
+    w.motions.emplace_back(nm);
+    w.wrenches.emplace_back(nm);
+    w.element_jacobian.emplace_back(6 * nm + f.state_count, 12 * nm + f.state_count + 1);
+    w.element_rows_p.emplace_back(6 * nm + f.state_count, 1);
+    w.element_rows_m.emplace_back(6 * nm + f.state_count, 1);
+  }
+  w.equations.clear();
+  w.perturbed.clear();
+  for (const auto& c : constraints) {
+    w.equations.emplace_back(c.constraint->size());
+    w.perturbed.emplace_back(c.constraint->size());
+  }
+  w.dense.resize(0, 0);
+  w.f_scratch.resize(size_);
+  w.pattern = jacobian_pattern();
+  w.kin_dw.clear();
+  for (const auto& b : bodies) w.kin_dw.emplace_back(b->position_count(), b->velocity_count());
 }
 
 std::span<const double> Model::positions(int b, const double* y) const {
@@ -44,28 +121,52 @@ MarkerMotion Model::marker_motion(const MarkerRef& m, const double* y) const {
   return bodies[m.body]->marker_motion(m.marker, positions(m.body, y), velocities(m.body, y));
 }
 
-ForceContext Model::context(double t, const double* y) const { return {t, crank_angle(y)}; }
+ElementInput Model::element_input(const ForceEntry& f, double t, const double* y, const double* yp,
+                                  std::vector<MarkerMotion>& markers) const {
+  markers.resize(f.markers.size());
+  for (std::size_t k = 0; k < f.markers.size(); ++k) markers[k] = marker_motion(f.markers[k], y);
+  ElementInput in;
+  in.time = t;
+  in.crank_angle = crank_angle(y);
+  in.markers = markers;
+  in.z = {y + f.state_offset, static_cast<std::size_t>(f.state_count)};
+  in.zp = {yp + f.state_offset, static_cast<std::size_t>(f.state_count)};
+  return in;
+}
 
 Eigen::VectorXd Model::differential_mask() const {
   Eigen::VectorXd id = Eigen::VectorXd::Zero(size_);
   for (std::size_t b = 0; b < bodies.size(); ++b)
     id.segment(body_offset_[b], bodies[b]->position_count() + bodies[b]->velocity_count()).setOnes();
   if (clock_index_ >= 0) id[clock_index_] = 1;
+  for (const auto& f : forces) {
+    const auto states = f.element->states();
+    for (int s = 0; s < f.state_count; ++s) id[f.state_offset + s] = states[s].differential ? 1 : 0;
+  }
+  id[energy_offset_] = id[energy_offset_ + 1] = 1;
   return id;
+}
+
+Eigen::VectorXd Model::error_test_mask() const {
+  Eigen::VectorXd m = differential_mask();
+  m[energy_offset_] = m[energy_offset_ + 1] = 0;
+  return m;
 }
 
 std::string Model::describe_state(int k) const {
   for (std::size_t b = 0; b < bodies.size(); ++b) {
-    const int o = body_offset_[b], nq = bodies[b]->position_count(), nw = bodies[b]->velocity_count();
+    const int o = body_offset_[b], nq = bodies[b]->position_count();
     if (k >= o && k < o + bodies[b]->state_count()) {
       const int r = k - o;
-      std::string what = r < nq ? "q[" + std::to_string(r) + "]"
-                         : r < nq + nw ? "w[" + std::to_string(r - nq) + "]"
-                                       : "normalization";
-      return "body '" + bodies[b]->name() + "' " + what;
+      return "body '" + bodies[b]->name() + "' " + (r < nq ? "q[" + std::to_string(r) + "]" : "w[" + std::to_string(r - nq) + "]");
     }
   }
   if (k == clock_index_) return "clock angle";
+  for (const auto& f : forces)
+    if (k >= f.state_offset && k < f.state_offset + f.state_count)
+      return f.element->type() + " '" + f.name + "' state " + f.element->states()[k - f.state_offset].name;
+  if (k == energy_offset_) return "energy dissipated";
+  if (k == energy_offset_ + 1) return "energy input";
   for (const auto& c : constraints) {
     for (int e = 0; e < c.constraint->size(); ++e) {
       const auto name = c.constraint->equation_names()[e];
@@ -76,31 +177,33 @@ std::string Model::describe_state(int k) const {
   return "state " + std::to_string(k);
 }
 
-namespace {
-// Body-level generalized force from force F and torque T (global) at a point attached to a marker.
-void add_generalized_force(const MarkerJacobian& j, const Vec3& force, const Vec3& torque, double* q) {
-  const int n = static_cast<int>(j.jv.cols());
-  Eigen::Map<Eigen::VectorXd>(q, n) += j.jv.transpose() * force + j.jw.transpose() * torque;
+// ---------------------------------------------------------------- residual
+void Model::evaluate_element(std::size_t fi, double t, const double* y, const double* yp, double* state_rows) const {
+  auto& w = *ws_;
+  const ForceEntry& f = forces[fi];
+  const ElementInput in = element_input(f, t, y, yp, w.motions[fi]);
+  for (auto& wr : w.wrenches[fi]) wr = Wrench{};
+  ElementOutput out{w.wrenches[fi], {state_rows, static_cast<std::size_t>(f.state_count)}};
+  f.element->evaluate(in, out);
 }
-}  // namespace
 
 void Model::residual(double t, const double* y, const double* yp, double* f) const {
-  // Generalized forces Q, C^T lambda and C^T mu, stacked over all bodies' velocities.
-  Eigen::VectorXd q_force = Eigen::VectorXd::Zero(n_w_), ct_lambda = Eigen::VectorXd::Zero(n_w_),
-                  ct_mu = Eigen::VectorXd::Zero(n_w_);
+  auto& w = *ws_;
+  w.q_force.setZero();
+  w.ct_lambda.setZero();
+  w.ct_mu.setZero();
 
-  // Constraints: their rows and their reactions.
-  for (const auto& c : constraints) {
+  // Constraints: their rows, and their reactions as wrenches D^T lambda at the markers (C^T = J^T D^T).
+  for (std::size_t ci = 0; ci < constraints.size(); ++ci) {
+    const auto& c = constraints[ci];
     const MarkerMotion mi = marker_motion(c.i, y), mj = marker_motion(c.j, y);
-    ConstraintEquations eq(c.constraint->size());
+    ConstraintEquations& eq = w.equations[ci];
+    eq.phi.setZero(), eq.di.setZero(), eq.dj.setZero(), eq.phi_t.setZero();
     c.constraint->evaluate(t, mi, mj, eq);
-    const auto& bi = *bodies[c.i.body];
-    const auto& bj = *bodies[c.j.body];
-    const MarkerJacobian ji = bi.marker_jacobian(c.i.marker, positions(c.i.body, y));
-    const MarkerJacobian jj = bj.marker_jacobian(c.j.marker, positions(c.j.body, y));
-    Eigen::MatrixXd ci = eq.di.leftCols<3>() * ji.jv + eq.di.rightCols<3>() * ji.jw;
-    Eigen::MatrixXd cj = eq.dj.leftCols<3>() * jj.jv + eq.dj.rightCols<3>() * jj.jw;
-    const auto wi = velocities(c.i.body, y), wj = velocities(c.j.body, y);
+    Eigen::Matrix<double, 6, 1> twist_i, twist_j, li = Eigen::Matrix<double, 6, 1>::Zero(),
+                                                   lj = Eigen::Matrix<double, 6, 1>::Zero(), ui = li, uj = li;
+    twist_i << mi.velocity, mi.angular_velocity;
+    twist_j << mj.velocity, mj.angular_velocity;
     for (int e = 0; e < c.constraint->size(); ++e) {
       const int row = c.first_row + e;
       const double lambda = y[lambda_offset_ + row], mu = y[mu_offset_ + row];
@@ -109,58 +212,407 @@ void Model::residual(double t, const double* y, const double* yp, double* f) con
         f[mu_offset_ + row] = mu;
         continue;
       }
-      double vel = eq.phi_t[e];
-      for (int k = 0; k < ci.cols(); ++k) vel += ci(e, k) * wi[k];
-      for (int k = 0; k < cj.cols(); ++k) vel += cj(e, k) * wj[k];
-      f[lambda_offset_ + row] = vel;
+      f[lambda_offset_ + row] = eq.di.row(e).dot(twist_i) + eq.dj.row(e).dot(twist_j) + eq.phi_t[e];
       f[mu_offset_ + row] = eq.phi[e];
-      ct_lambda.segment(w_global_offset_[c.i.body], ci.cols()) += ci.row(e).transpose() * lambda;
-      ct_lambda.segment(w_global_offset_[c.j.body], cj.cols()) += cj.row(e).transpose() * lambda;
-      ct_mu.segment(w_global_offset_[c.i.body], ci.cols()) += ci.row(e).transpose() * mu;
-      ct_mu.segment(w_global_offset_[c.j.body], cj.cols()) += cj.row(e).transpose() * mu;
+      li += eq.di.row(e).transpose() * lambda, lj += eq.dj.row(e).transpose() * lambda;
+      ui += eq.di.row(e).transpose() * mu, uj += eq.dj.row(e).transpose() * mu;
     }
+    auto add = [&](const MarkerRef& m, const Eigen::Matrix<double, 6, 1>& wr, Eigen::VectorXd& target) {
+      const Body& b = *bodies[m.body];
+      if (b.velocity_count() == 0) return;
+      b.add_wrench(m.marker, positions(m.body, y), wr.head<3>(), wr.tail<3>(),
+                   {target.data() + w_global_offset_[m.body], std::size_t(b.velocity_count())});
+    };
+    add(c.i, li, w.ct_lambda), add(c.j, lj, w.ct_lambda);
+    add(c.i, ui, w.ct_mu), add(c.j, uj, w.ct_mu);
   }
 
-  // Force elements: force on i at a point, the opposite on j at the same point.
-  const ForceContext ctx = context(t, y);
-  static const MarkerMotion kFixed{};
-  for (const auto& fe : forces) {
-    const MarkerMotion mi = marker_motion(fe.i, y);
-    const MarkerMotion mj = fe.j ? marker_motion(*fe.j, y) : kFixed;
-    const ElementForce ef = fe.element->evaluate(ctx, mi, mj);
-    const auto& bi = *bodies[fe.i.body];
-    if (bi.velocity_count() > 0) {
-      const MarkerJacobian ji = bi.marker_jacobian(fe.i.marker, positions(fe.i.body, y)).shifted(ef.point - mi.position);
-      add_generalized_force(ji, ef.force, ef.torque, q_force.data() + w_global_offset_[fe.i.body]);
-    }
-    if (fe.j && bodies[fe.j->body]->velocity_count() > 0) {
-      const auto& bj = *bodies[fe.j->body];
-      const MarkerJacobian jj = bj.marker_jacobian(fe.j->marker, positions(fe.j->body, y)).shifted(ef.point - mj.position);
-      add_generalized_force(jj, -ef.force, -ef.torque, q_force.data() + w_global_offset_[fe.j->body]);
+  // Force elements: wrenches at their markers, and their state rows.
+  for (std::size_t fi = 0; fi < forces.size(); ++fi) {
+    const ForceEntry& fe = forces[fi];
+    evaluate_element(fi, t, y, yp, f + fe.state_offset);
+    for (std::size_t k = 0; k < fe.markers.size(); ++k) {
+      const MarkerRef& m = fe.markers[k];
+      const Body& b = *bodies[m.body];
+      if (b.velocity_count() == 0) continue;
+      const Wrench& wr = w.wrenches[fi][k];
+      b.add_wrench(m.marker, positions(m.body, y), wr.force, wr.torque,
+                   {w.q_force.data() + w_global_offset_[m.body], std::size_t(b.velocity_count())});
     }
   }
 
   // Body rows.
   for (std::size_t b = 0; b < bodies.size(); ++b) {
     const auto& body = *bodies[b];
-    const int o = body_offset_[b], nq = body.position_count(), nw = body.velocity_count(), na = body.algebraic_count();
+    const int o = body_offset_[b], nq = body.position_count(), nw = body.velocity_count();
     if (nq + nw == 0) continue;
     const int wo = w_global_offset_[b];
-    const Eigen::VectorXd w_eff = Eigen::Map<const Eigen::VectorXd>(y + o + nq, nw) - ct_mu.segment(wo, nw);
+    auto w_eff = w.w_eff.head(nw);
+    w_eff = Eigen::Map<const Eigen::VectorXd>(y + o + nq, nw) - w.ct_mu.segment(wo, nw);
     body.kinematic_residual({y + o, std::size_t(nq)}, {yp + o, std::size_t(nq)}, {w_eff.data(), std::size_t(nw)},
-                            {y + o + nq + nw, std::size_t(na)}, {f + o, std::size_t(nq)},
-                            {f + o + nq + nw, std::size_t(na)});
+                            {}, {f + o, std::size_t(nq)}, {});
     body.inertia_residual({y + o, std::size_t(nq)}, {y + o + nq, std::size_t(nw)}, {yp + o + nq, std::size_t(nw)},
                           gravity, {f + o + nq, std::size_t(nw)});
-    Eigen::Map<Eigen::VectorXd>(f + o + nq, nw) += ct_lambda.segment(wo, nw) - q_force.segment(wo, nw);
+    Eigen::Map<Eigen::VectorXd>(f + o + nq, nw) += w.ct_lambda.segment(wo, nw) - w.q_force.segment(wo, nw);
   }
 
   if (clock_index_ >= 0) {
     const MarkerMotion mi = marker_motion(clock->i, y), mj = marker_motion(clock->j, y);
     f[clock_index_] = yp[clock_index_] - mj.axes.col(2).dot(mi.angular_velocity - mj.angular_velocity);
   }
+
+  double dissipated = 0, input = 0;
+  element_powers(t, y, yp, dissipated, input);
+  f[energy_offset_] = yp[energy_offset_] - dissipated;
+  f[energy_offset_ + 1] = yp[energy_offset_ + 1] - input;
 }
 
+// Uses the wrenches left in the workspace by the residual's element loop.
+void Model::element_powers(double t, const double* y, const double* yp, double& dissipated, double& input) const {
+  auto& w = *ws_;
+  dissipated = 0;
+  input = driver_power(t, y);
+  for (std::size_t b = 0; b < bodies.size(); ++b)
+    dissipated += bodies[b]->dissipated_power(positions(static_cast<int>(b), y), velocities(static_cast<int>(b), y));
+  for (std::size_t fi = 0; fi < forces.size(); ++fi) {
+    const ForceEntry& fe = forces[fi];
+    if (fe.element->is_source()) {
+      for (std::size_t k = 0; k < fe.markers.size(); ++k) {
+        const MarkerMotion& m = w.motions[fi][k];
+        input += w.wrenches[fi][k].force.dot(m.velocity) + w.wrenches[fi][k].torque.dot(m.angular_velocity);
+      }
+    } else {
+      ElementInput in;
+      in.time = t;
+      in.crank_angle = crank_angle(y);
+      in.markers = w.motions[fi];
+      in.z = {y + fe.state_offset, static_cast<std::size_t>(fe.state_count)};
+      in.zp = {yp + fe.state_offset, static_cast<std::size_t>(fe.state_count)};
+      dissipated += fe.element->energy(in).dissipated;
+    }
+  }
+}
+
+// Power of the driven joints: the reactions -C^T lambda do the work -lambda^T C w = lambda^T Phi_t.
+double Model::driver_power(double t, const double* y) const {
+  double p = 0;
+  for (std::size_t ci = 0; ci < constraints.size(); ++ci) {
+    const auto& c = constraints[ci];
+    if (c.constraint->type() != "speed-driver") continue;
+    const MarkerMotion mi = marker_motion(c.i, y), mj = marker_motion(c.j, y);
+    ConstraintEquations& eq = ws_->perturbed[ci];
+    eq.phi_t.setZero();
+    c.constraint->evaluate(t, mi, mj, eq);
+    for (int e = 0; e < c.constraint->size(); ++e)
+      if (c.active[e]) p += y[lambda_offset_ + c.first_row + e] * eq.phi_t[e];
+  }
+  return p;
+}
+
+void Model::gaps(double t, const double* y, const double* yp, double* out) const {
+  for (std::size_t fi = 0; fi < forces.size(); ++fi) {
+    const ForceEntry& fe = forces[fi];
+    const int n = fe.element->gap_count();
+    if (n == 0) continue;
+    const ElementInput in = element_input(fe, t, y, yp, ws_->motions[fi]);
+    fe.element->gaps(in, {out + fe.gap_offset, static_cast<std::size_t>(n)});
+  }
+}
+
+// ---------------------------------------------------------------- Jacobian
+namespace {
+
+/// Apply one of the 12 marker-motion perturbations (force_element.hpp) of size h to a marker.
+void perturb(MarkerMotion& m, int column, double h) {
+  const int axis = column % 3;
+  switch (column / 3) {
+    case 0: m.position[axis] += h; break;
+    case 1: m.axes = Eigen::AngleAxisd(h, Vec3::Unit(axis)).toRotationMatrix() * m.axes; break;
+    case 2: m.velocity[axis] += h; break;
+    default: m.angular_velocity[axis] += h; break;
+  }
+}
+double motion_step(const MarkerMotion& m, int column) {
+  const int axis = column % 3;
+  switch (column / 3) {
+    case 0: return 1e-7 * std::max(1.0, std::abs(m.position[axis]));
+    case 1: return 1e-7;
+    case 2: return 1e-7 * std::max(1.0, std::abs(m.velocity[axis]));
+    default: return 1e-7 * std::max(1.0, std::abs(m.angular_velocity[axis]));
+  }
+}
+
+}  // namespace
+
+void Model::jacobian(double t, const double* y, const double* yp, double cj, std::vector<double>& values) const {
+  auto& w = *ws_;
+  if (w.dense.rows() != size_) w.dense.resize(size_, size_);
+  Eigen::MatrixXd& jm = w.dense;
+  jm.setZero();
+  residual(t, y, yp, w.f_scratch.data());  // fills the workspace: wrenches, constraint equations, C^T mu
+
+  // Bodies' own blocks.
+  for (std::size_t b = 0; b < bodies.size(); ++b) {
+    const Body& body = *bodies[b];
+    const int o = body_offset_[b], nq = body.position_count(), nw = body.velocity_count();
+    if (nq + nw == 0) continue;
+    const auto q = positions(static_cast<int>(b), y);
+    const auto wv = velocities(static_cast<int>(b), y);
+    const int wo = w_global_offset_[b];
+    Eigen::VectorXd w_eff = Eigen::Map<const Eigen::VectorXd>(wv.data(), nw) - w.ct_mu.segment(wo, nw);
+    w.scratch_q.resize(nq, nq);
+    body.kinematic_jacobian(q, {w_eff.data(), std::size_t(nw)}, w.scratch_q, w.kin_dw[b]);
+    jm.block(o, o, nq, nq) = w.scratch_q;
+    jm.block(o, o, nq, nq).diagonal().array() += cj;
+    jm.block(o, o + nq, nq, nw) = w.kin_dw[b];
+    w.scratch_q.resize(nw, nq);
+    w.scratch_w.resize(nw, nw);
+    body.inertia_jacobian(q, wv, {yp + o + nq, std::size_t(nw)}, gravity, w.scratch_q, w.scratch_w);
+    jm.block(o + nq, o, nw, nq) = w.scratch_q;
+    jm.block(o + nq, o + nq, nw, nw) = w.scratch_w + cj * body.mass_matrix(q);
+  }
+
+  // The chain rule through a marker: d(marker motion)/d(q, w) of its body.
+  struct MarkerDerivatives {
+    int body = -1, nq = 0, nw = 0, q0 = 0, w0 = 0;  // columns of q and w in y
+    Eigen::MatrixXd s;                             // 12 x nq
+    Eigen::MatrixXd g;                             // 6 x nw: [Jv; Jw]
+  };
+  auto derivatives = [&](const MarkerRef& m, MarkerDerivatives& d) {
+    const Body& body = *bodies[m.body];
+    d.body = m.body;
+    d.nq = body.position_count();
+    d.nw = body.velocity_count();
+    d.q0 = body_offset_[m.body];
+    d.w0 = d.q0 + d.nq;
+    if (d.nq + d.nw == 0) return;
+    d.s.resize(12, d.nq);
+    body.marker_sensitivity(m.marker, positions(m.body, y), velocities(m.body, y), d.s);
+    const MarkerJacobian j = body.marker_jacobian(m.marker, positions(m.body, y));
+    d.g.resize(6, d.nw);
+    d.g.topRows(3) = j.jv;
+    d.g.bottomRows(3) = j.jw;
+  };
+  // rows += a * (d(motion)/d(y) of marker d), a: r x 12 (columns dp, dtheta, dv, domega).
+  auto add_motion = [&](int row0, const Eigen::Ref<const Eigen::MatrixXd>& a, const MarkerDerivatives& d) {
+    if (d.nq + d.nw == 0) return;
+    jm.block(row0, d.q0, a.rows(), d.nq) += a * d.s;
+    jm.block(row0, d.w0, a.rows(), d.nw) += a.rightCols<6>() * d.g;
+  };
+  // dynamics rows of marker k's body += sign * G_k^T * a (a: 6 x cols at columns col0).
+  auto add_to_dynamics = [&](const MarkerDerivatives& k, double sign, const Eigen::Ref<const Eigen::MatrixXd>& a,
+                             int col0) {
+    if (k.nw == 0) return;
+    jm.block(k.w0, col0, k.nw, a.cols()) += sign * k.g.transpose() * a;
+  };
+
+  // Force elements.
+  std::vector<MarkerDerivatives> md;
+  for (std::size_t fi = 0; fi < forces.size(); ++fi) {
+    const ForceEntry& fe = forces[fi];
+    const int nm = static_cast<int>(fe.markers.size()), ns = fe.state_count;
+    Eigen::MatrixXd& e = w.element_jacobian[fi];
+    e.setZero();
+    const ElementInput in = element_input(fe, t, y, yp, w.motions[fi]);
+    ElementJacobian ej{cj, e};
+    if (!fe.element->jacobian(in, ej)) {
+      // Local central differences of this element alone.
+      e.setZero();
+      std::vector<MarkerMotion>& mot = w.motion_scratch;
+      mot.assign(in.markers.begin(), in.markers.end());
+      w.wrench_scratch_p.resize(nm), w.wrench_scratch_m.resize(nm);
+      w.state_scratch_p.resize(ns), w.state_scratch_m.resize(ns);
+      w.z_scratch.assign(in.z.begin(), in.z.end()), w.zp_scratch.assign(in.zp.begin(), in.zp.end());
+      ElementInput pin = in;
+      pin.markers = mot;
+      pin.z = w.z_scratch;
+      pin.zp = w.zp_scratch;
+      auto eval = [&](std::vector<Wrench>& wr, std::vector<double>& st, Eigen::MatrixXd& rows) {
+        for (auto& x : wr) x = Wrench{};
+        ElementOutput out{wr, st};
+        fe.element->evaluate(pin, out);
+        for (int k = 0; k < nm; ++k) rows.block<3, 1>(6 * k, 0) = wr[k].force, rows.block<3, 1>(6 * k + 3, 0) = wr[k].torque;
+        for (int s = 0; s < ns; ++s) rows(6 * nm + s, 0) = st[s];
+      };
+      auto difference = [&](int col, double h) {
+        e.col(col) = (w.element_rows_p[fi] - w.element_rows_m[fi]) / (2 * h);
+      };
+      for (int k = 0; k < nm; ++k)
+        for (int c = 0; c < 12; ++c) {
+          const double h = motion_step(in.markers[k], c);
+          perturb(mot[k], c, h);
+          eval(w.wrench_scratch_p, w.state_scratch_p, w.element_rows_p[fi]);
+          mot[k] = in.markers[k];
+          perturb(mot[k], c, -h);
+          eval(w.wrench_scratch_m, w.state_scratch_m, w.element_rows_m[fi]);
+          mot[k] = in.markers[k];
+          difference(12 * k + c, h);
+        }
+      for (int s = 0; s < ns; ++s) {
+        const double h = 1e-7 * std::max(1.0, std::abs(in.z[s]));
+        w.z_scratch[s] = in.z[s] + h, w.zp_scratch[s] = in.zp[s] + cj * h;
+        eval(w.wrench_scratch_p, w.state_scratch_p, w.element_rows_p[fi]);
+        w.z_scratch[s] = in.z[s] - h, w.zp_scratch[s] = in.zp[s] - cj * h;
+        eval(w.wrench_scratch_m, w.state_scratch_m, w.element_rows_m[fi]);
+        w.z_scratch[s] = in.z[s], w.zp_scratch[s] = in.zp[s];
+        difference(12 * nm + s, h);
+      }
+      if (fe.element->uses_crank_angle() && clock_index_ >= 0) {
+        const double h = 1e-7 * std::max(1.0, std::abs(in.crank_angle));
+        pin.crank_angle = in.crank_angle + h;
+        eval(w.wrench_scratch_p, w.state_scratch_p, w.element_rows_p[fi]);
+        pin.crank_angle = in.crank_angle - h;
+        eval(w.wrench_scratch_m, w.state_scratch_m, w.element_rows_m[fi]);
+        difference(12 * nm + ns, h);
+      }
+    }
+    md.resize(nm);
+    for (int k = 0; k < nm; ++k) derivatives(fe.markers[k], md[k]);
+    const int z0 = fe.state_offset, crank_col = 12 * nm + ns;
+    for (int k = 0; k < nm; ++k) {
+      if (md[k].nw == 0) continue;
+      // -(G_k^T dW_k/d(motion_l)) d(motion_l)/dy
+      for (int l = 0; l < nm; ++l) {
+        if (md[l].nq + md[l].nw == 0) continue;
+        const Eigen::MatrixXd gw = -md[k].g.transpose() * e.block(6 * k, 12 * l, 6, 12);
+        add_motion(md[k].w0, gw, md[l]);
+      }
+      if (ns > 0) add_to_dynamics(md[k], -1.0, e.block(6 * k, 12 * nm, 6, ns), z0);
+      if (clock_index_ >= 0) add_to_dynamics(md[k], -1.0, e.block(6 * k, crank_col, 6, 1), clock_index_);
+      // the wrench's own change of direction in body coordinates, at fixed (F, T)
+      w.scratch_q.setZero(md[k].nw, md[k].nq);
+      const Wrench& wr = w.wrenches[fi][k];
+      bodies[md[k].body]->add_wrench_derivative(fe.markers[k].marker, positions(md[k].body, y), wr.force, wr.torque,
+                                                 w.scratch_q);
+      jm.block(md[k].w0, md[k].q0, md[k].nw, md[k].nq) -= w.scratch_q;
+    }
+    for (int s = 0; s < ns; ++s) {
+      for (int l = 0; l < nm; ++l) add_motion(z0 + s, e.block(6 * nm + s, 12 * l, 1, 12), md[l]);
+      jm.block(z0 + s, z0, 1, ns) += e.block(6 * nm + s, 12 * nm, 1, ns);
+      if (clock_index_ >= 0) jm(z0 + s, clock_index_) += e(6 * nm + s, crank_col);
+    }
+  }
+
+  // Constraints.
+  MarkerDerivatives di, dj;
+  for (std::size_t ci = 0; ci < constraints.size(); ++ci) {
+    const auto& c = constraints[ci];
+    const int m = c.constraint->size();
+    const MarkerMotion mi = marker_motion(c.i, y), mj = marker_motion(c.j, y);
+    const ConstraintEquations& eq = w.equations[ci];  // evaluated by the residual above
+    derivatives(c.i, di);
+    derivatives(c.j, dj);
+    Eigen::VectorXd lambda(m), mu(m);
+    for (int e = 0; e < m; ++e) {
+      const int row = c.first_row + e;
+      lambda[e] = c.active[e] ? y[lambda_offset_ + row] : 0.0;
+      mu[e] = c.active[e] ? y[mu_offset_ + row] : 0.0;
+      if (!c.active[e]) {
+        jm(lambda_offset_ + row, lambda_offset_ + row) = 1;
+        jm(mu_offset_ + row, mu_offset_ + row) = 1;
+      }
+    }
+    // The change of D with the markers' poses, by local central differences: d(D twist)/d(pose) (m x 12 per
+    // marker) and d(D^T lambda)/d(pose) (6 x 12 per marker and per side).
+    Eigen::Matrix<double, 6, 1> ti, tj;
+    ti << mi.velocity, mi.angular_velocity;
+    tj << mj.velocity, mj.angular_velocity;
+    Eigen::MatrixXd dvel = Eigen::MatrixXd::Zero(m, 24);
+    Eigen::MatrixXd dreac_i = Eigen::MatrixXd::Zero(6, 24), dreac_j = Eigen::MatrixXd::Zero(6, 24);
+    ConstraintEquations& pe = w.perturbed[ci];
+    for (int side = 0; side < 2; ++side)
+      for (int col = 0; col < 6; ++col) {
+        const double h = col < 3 ? 1e-7 * std::max(1.0, std::abs((side ? mj : mi).position[col])) : 1e-7;
+        Eigen::VectorXd vel_p(m), vel_m(m);
+        Eigen::Matrix<double, 6, 1> ri_p, rj_p, ri_m, rj_m;
+        for (double sign : {1.0, -1.0}) {
+          MarkerMotion a = mi, b = mj;
+          perturb(side ? b : a, col, sign * h);
+          pe.phi.setZero(), pe.di.setZero(), pe.dj.setZero(), pe.phi_t.setZero();
+          c.constraint->evaluate(t, a, b, pe);
+          (sign > 0 ? vel_p : vel_m) = pe.di * ti + pe.dj * tj + pe.phi_t;
+          (sign > 0 ? ri_p : ri_m) = pe.di.transpose() * lambda;
+          (sign > 0 ? rj_p : rj_m) = pe.dj.transpose() * lambda;
+        }
+        const int k = 12 * side + col;
+        dvel.col(k) = (vel_p - vel_m) / (2 * h);
+        dreac_i.col(k) = (ri_p - ri_m) / (2 * h);
+        dreac_j.col(k) = (rj_p - rj_m) / (2 * h);
+      }
+    auto pose_part = [](const MarkerDerivatives& d, const Eigen::Ref<const Eigen::MatrixXd>& a) {
+      return Eigen::MatrixXd(a * d.s.topRows(6));  // a: r x 6 by (dp, dtheta)
+    };
+    const int lam0 = lambda_offset_ + c.first_row, mu0 = mu_offset_ + c.first_row;
+    // velocity rows: D's own change with the poses of both markers
+    for (int other = 0; other < 2; ++other) {
+      const MarkerDerivatives& o = other ? dj : di;
+      if (o.nq == 0) continue;
+      for (int e = 0; e < m; ++e)
+        if (c.active[e]) jm.block(lam0 + e, o.q0, 1, o.nq) += pose_part(o, dvel.block(e, 12 * other, 1, 6));
+    }
+    for (int side = 0; side < 2; ++side) {
+      const MarkerDerivatives& d = side ? dj : di;
+      const auto& dm = side ? eq.dj : eq.di;
+      if (d.nq + d.nw == 0) continue;
+      for (int e = 0; e < m; ++e) {
+        if (!c.active[e]) continue;
+        // velocity rows: D [v; omega] + Phi_t
+        jm.block(lam0 + e, d.w0, 1, d.nw) += dm.row(e) * d.g;
+        jm.block(lam0 + e, d.q0, 1, d.nq) += dm.row(e) * d.s.bottomRows(6);
+        // position rows: dPhi/d(pose) = D
+        jm.block(mu0 + e, d.q0, 1, d.nq) += dm.row(e) * d.s.topRows(6);
+      }
+      if (d.nw == 0) continue;
+      // dynamics rows: + G^T D^T lambda
+      for (int e = 0; e < m; ++e)
+        if (c.active[e]) jm.block(d.w0, lam0 + e, d.nw, 1) += d.g.transpose() * dm.row(e).transpose();
+      const Eigen::MatrixXd& dreac = side ? dreac_j : dreac_i;
+      for (int other = 0; other < 2; ++other) {
+        const MarkerDerivatives& o = other ? dj : di;
+        if (o.nq == 0) continue;
+        jm.block(d.w0, o.q0, d.nw, o.nq) += d.g.transpose() * pose_part(o, dreac.block(0, 12 * other, 6, 6));
+      }
+      const Eigen::Matrix<double, 6, 1> wr = dm.transpose() * lambda;
+      w.scratch_q.setZero(d.nw, d.nq);
+      bodies[d.body]->add_wrench_derivative((side ? c.j : c.i).marker, positions(d.body, y), wr.head<3>(), wr.tail<3>(),
+                                            w.scratch_q);
+      jm.block(d.w0, d.q0, d.nw, d.nq) += w.scratch_q;
+      // kinematic rows: w_eff = w - C^T mu, so d/dmu = -(d kin/d w_eff) G^T D^T
+      for (int e = 0; e < m; ++e)
+        if (c.active[e])
+          jm.block(d.q0, mu0 + e, d.nq, 1) -= w.kin_dw[d.body] * (d.g.transpose() * dm.row(e).transpose());
+    }
+  }
+
+  // Clock: phi' - z_j . (omega_i - omega_j).
+  if (clock_index_ >= 0) {
+    const int r = clock_index_;
+    jm(r, r) += cj;
+    const MarkerMotion mi = marker_motion(clock->i, y), mj = marker_motion(clock->j, y);
+    const Vec3 z = mj.axes.col(2), dw = mi.angular_velocity - mj.angular_velocity;
+    derivatives(clock->i, di);
+    derivatives(clock->j, dj);
+    Eigen::Matrix<double, 1, 12> a = Eigen::Matrix<double, 1, 12>::Zero();
+    a.segment<3>(9) = -z.transpose();
+    add_motion(r, a, di);
+    a.setZero();
+    a.segment<3>(9) = z.transpose();
+    a.segment<3>(3) = -z.cross(dw).transpose();
+    add_motion(r, a, dj);
+  }
+
+  // Energy integrals: their rates only (they feed nothing back).
+  jm(energy_offset_, energy_offset_) += cj;
+  jm(energy_offset_ + 1, energy_offset_ + 1) += cj;
+
+  // The pattern's entries.
+  const SparsityPattern& p = w.pattern;
+  values.resize(p.rows.size());
+  for (int col = 0; col < p.n; ++col)
+    for (int k = p.column_start[col]; k < p.column_start[col + 1]; ++k) values[k] = jm(p.rows[k], col);
+}
+
+// ---------------------------------------------------------------- start
 void Model::constraint_matrix(double t, const double* y, Eigen::MatrixXd& cm, Eigen::VectorXd& phi,
                               Eigen::VectorXd& phi_t) const {
   cm = Eigen::MatrixXd::Zero(n_eq_, n_w_);
@@ -188,6 +640,10 @@ void Model::consistent_initial_state(double t0, Eigen::VectorXd& y, Eigen::Vecto
   for (std::size_t b = 0; b < bodies.size(); ++b) {
     y.segment(body_offset_[b], bodies[b]->position_count()) = bodies[b]->initial_positions();
     y.segment(velocity_offset(b), bodies[b]->velocity_count()) = bodies[b]->initial_velocities();
+  }
+  for (const auto& f : forces) {
+    const auto states = f.element->states();
+    for (int s = 0; s < f.state_count; ++s) y[f.state_offset + s] = states[s].initial;
   }
   auto apply_velocity_step = [&](const Eigen::VectorXd& dw) {  // q += H(q) dw, Euler parameters renormalized
     for (std::size_t b = 0; b < bodies.size(); ++b) {
@@ -288,6 +744,30 @@ void Model::consistent_initial_state(double t0, Eigen::VectorXd& y, Eigen::Vecto
     yp[clock_index_] = mj.axes.col(2).dot(mi.angular_velocity - mj.angular_velocity);
   }
 
+  // Element states: the rates of differential states (algebraic states: their values) that zero their rows,
+  // by Newton with local differences (a few iterations; the rows are usually linear in them).
+  {
+    Eigen::VectorXd f0(size_), f1(size_);
+    for (const auto& fe : forces)
+      for (int s = 0; s < fe.state_count; ++s) {
+        const bool differential = fe.element->states()[s].differential;
+        const int k = fe.state_offset + s;
+        double& v = differential ? yp[k] : y[k];
+        for (int it = 0; it < 20; ++it) {
+          residual(t0, y.data(), yp.data(), f0.data());
+          if (std::abs(f0[k]) < 1e-14 * std::max(1.0, std::abs(v))) break;
+          const double h = 1e-7 * std::max(1.0, std::abs(v));
+          v += h;
+          residual(t0, y.data(), yp.data(), f1.data());
+          v -= h;
+          const double slope = (f1[k] - f0[k]) / h;
+          if (slope == 0) throw Error(fe.element->type() + " '" + fe.name + "': the row of its state " +
+                                      fe.element->states()[s].name + " does not depend on it");
+          v -= f0[k] / slope;
+        }
+      }
+  }
+
   // 4. Accelerations and multipliers: [M C^T; C 0] [w'; lambda] = [Q - h; -(dC/dt w + Phi_tt)].
   Eigen::VectorXd f0(size_);
   residual(t0, y.data(), yp.data(), f0.data());  // with w' = 0, lambda = 0: dynamics rows = h - Q
@@ -318,61 +798,72 @@ void Model::consistent_initial_state(double t0, Eigen::VectorXd& y, Eigen::Vecto
   for (std::size_t b = 0; b < bodies.size(); ++b)
     yp.segment(velocity_offset(b), bodies[b]->velocity_count()) = sol.segment(w_global_offset_[b], bodies[b]->velocity_count());
   for (int k = 0; k < na; ++k) y[lambda_offset_ + keep[k]] = sol[n_w_ + k];
+
+  // 5. The energy integrals start at zero with the rates of this state.
+  y[energy_offset_] = y[energy_offset_ + 1] = 0;
+  yp[energy_offset_] = yp[energy_offset_ + 1] = 0;
+  residual(t0, y.data(), yp.data(), f0.data());
+  yp[energy_offset_] = -f0[energy_offset_];
+  yp[energy_offset_ + 1] = -f0[energy_offset_ + 1];
 }
 
+// ---------------------------------------------------------------- pattern
 SparsityPattern Model::jacobian_pattern() const {
-  // Block structure: a "block" is a body's states, the clock, or a constraint's lambda and mu.
-  const int nb = static_cast<int>(bodies.size());
-  const int nblocks = nb + 1 + static_cast<int>(constraints.size());
-  std::vector<std::pair<int, int>> range(nblocks);  // [begin, end) pairs; constraint blocks handled apart
-  for (int b = 0; b < nb; ++b) range[b] = {body_offset_[b], body_offset_[b] + bodies[b]->state_count()};
-  range[nb] = clock_index_ >= 0 ? std::pair{clock_index_, clock_index_ + 1} : std::pair{0, 0};
-  std::vector<std::set<int>> deps(nblocks);  // row block -> column blocks
+  // Blocks: each body's states, the clock, each element's states, the energy integrals, each constraint's
+  // lambda and mu. deps[r] = the column blocks row block r depends on.
+  const int nb = static_cast<int>(bodies.size()), nf = static_cast<int>(forces.size());
+  const int clock_block = nb, element_block0 = nb + 1, energy_block = nb + 1 + nf, constraint_block0 = energy_block + 1;
+  const int nblocks = constraint_block0 + static_cast<int>(constraints.size());
+  std::vector<std::vector<int>> block_rows(nblocks);
+  for (int b = 0; b < nb; ++b)
+    for (int r = body_offset_[b]; r < body_offset_[b] + bodies[b]->state_count(); ++r) block_rows[b].push_back(r);
+  if (clock_index_ >= 0) block_rows[clock_block].push_back(clock_index_);
+  for (int f = 0; f < nf; ++f)
+    for (int s = 0; s < forces[f].state_count; ++s) block_rows[element_block0 + f].push_back(forces[f].state_offset + s);
+  block_rows[energy_block] = {energy_offset_, energy_offset_ + 1};
+  for (std::size_t c = 0; c < constraints.size(); ++c)
+    for (int e = 0; e < constraints[c].constraint->size(); ++e) {
+      block_rows[constraint_block0 + c].push_back(lambda_offset_ + constraints[c].first_row + e);
+      block_rows[constraint_block0 + c].push_back(mu_offset_ + constraints[c].first_row + e);
+    }
+  std::vector<std::set<int>> deps(nblocks);
   for (int k = 0; k < nblocks; ++k) deps[k].insert(k);
   for (std::size_t c = 0; c < constraints.size(); ++c) {
-    const int cb = nb + 1 + static_cast<int>(c);
+    const int cb = constraint_block0 + static_cast<int>(c);
     for (int b : {constraints[c].i.body, constraints[c].j.body}) {
       deps[b].insert(cb);
-      deps[cb].insert(b);
+      deps[cb].insert(constraints[c].i.body);
+      deps[cb].insert(constraints[c].j.body);
       deps[b].insert(constraints[c].i.body);
       deps[b].insert(constraints[c].j.body);
     }
   }
-  for (const auto& fe : forces) {
-    std::vector<int> bs = {fe.i.body};
-    if (fe.j) bs.push_back(fe.j->body);
-    for (int a : bs)
+  for (int f = 0; f < nf; ++f) {
+    const auto& fe = forces[f];
+    std::vector<int> bs;
+    for (const auto& m : fe.markers) bs.push_back(m.body);
+    const int eb = element_block0 + f;
+    for (int a : bs) {
       for (int b : bs) deps[a].insert(b);
-    if (clock_index_ >= 0)
-      for (int a : bs) deps[a].insert(nb);
+      if (fe.state_count > 0) deps[a].insert(eb), deps[eb].insert(a);
+      if (clock_index_ >= 0) deps[a].insert(clock_block);
+    }
+    if (clock_index_ >= 0 && fe.state_count > 0) deps[eb].insert(clock_block);
   }
   if (clock_index_ >= 0) {
-    deps[nb].insert(clock->i.body);
-    deps[nb].insert(clock->j.body);
+    deps[clock_block].insert(clock->i.body);
+    deps[clock_block].insert(clock->j.body);
   }
-  auto rows_of = [&](int block, std::vector<int>& out) {
-    if (block <= nb) {
-      for (int r = range[block].first; r < range[block].second; ++r) out.push_back(r);
-    } else {
-      const auto& c = constraints[block - nb - 1];
-      for (int e = 0; e < c.constraint->size(); ++e) {
-        out.push_back(lambda_offset_ + c.first_row + e);
-        out.push_back(mu_offset_ + c.first_row + e);
-      }
-    }
-  };
-  // Column sets: for each column block, the row blocks that depend on it.
   std::vector<std::set<int>> col_deps(nblocks);
   for (int r = 0; r < nblocks; ++r)
     for (int c : deps[r]) col_deps[c].insert(r);
   std::vector<std::vector<int>> columns(size_);
   for (int cb = 0; cb < nblocks; ++cb) {
-    std::vector<int> cols, rows;
-    rows_of(cb, cols);
-    for (int rb : col_deps[cb]) rows_of(rb, rows);
+    std::vector<int> rows;
+    for (int rb : col_deps[cb]) rows.insert(rows.end(), block_rows[rb].begin(), block_rows[rb].end());
     std::sort(rows.begin(), rows.end());
     rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
-    for (int c : cols) columns[c] = rows;
+    for (int c : block_rows[cb]) columns[c] = rows;
   }
   SparsityPattern p;
   p.n = size_;
@@ -385,6 +876,7 @@ SparsityPattern Model::jacobian_pattern() const {
   return p;
 }
 
+// ---------------------------------------------------------------- output
 Vec3 Model::marker_acceleration(const MarkerRef& m, const double* y, const double* yp) const {
   const auto& body = *bodies[m.body];
   const int nq = body.position_count(), nw = body.velocity_count();
@@ -404,15 +896,13 @@ Vec3 Model::marker_acceleration(const MarkerRef& m, const double* y, const doubl
 }
 
 void Model::reaction(int ci, const double* y, Vec3& force, Vec3& torque) const {
-  // The reaction on body i is -C_i^T lambda; written as a force and torque at marker i by solving
-  // Jv^T F + Jw^T T = -C_i^T lambda through the marker's 6 D Jacobian (exact for rigid bodies and point masses).
+  // The reaction on body i is -C_i^T lambda = -J_i^T D_i^T lambda: the wrench -D_i^T lambda at marker i.
   const auto& c = constraints[ci];
   const MarkerMotion mi = marker_motion(c.i, y), mj = marker_motion(c.j, y);
   ConstraintEquations eq(c.constraint->size());
   c.constraint->evaluate(0.0, mi, mj, eq);
   Eigen::VectorXd lambda(c.constraint->size());
   for (int e = 0; e < c.constraint->size(); ++e) lambda[e] = c.active[e] ? y[lambda_offset_ + c.first_row + e] : 0.0;
-  // In marker-twist space the generalized reaction is -Di^T lambda = [F; T] directly.
   const Eigen::Matrix<double, 6, 1> ft = -eq.di.transpose() * lambda;
   force = ft.head<3>();
   torque = ft.tail<3>();
@@ -442,6 +932,17 @@ std::pair<double, double> Model::constraint_violation(double t, const double* y)
 double Model::total_kinetic_energy(const double* y) const {
   double e = 0;
   for (std::size_t b = 0; b < bodies.size(); ++b) e += bodies[b]->kinetic_energy(positions(b, y), velocities(b, y));
+  return e;
+}
+
+EnergyBalance Model::energy(double t, const double* y, const double* yp) const {
+  EnergyBalance e;
+  e.kinetic = total_kinetic_energy(y);
+  for (std::size_t b = 0; b < bodies.size(); ++b) e.potential += bodies[b]->potential_energy(positions(static_cast<int>(b), y), gravity);
+  std::vector<MarkerMotion> markers;
+  for (const auto& f : forces) e.potential += f.element->energy(element_input(f, t, y, yp, markers)).stored;
+  e.dissipated = y[energy_offset_];
+  e.input = y[energy_offset_ + 1];
   return e;
 }
 

@@ -1,19 +1,29 @@
 #pragma once
 // The multibody model: bodies, constraints (joints, drivers), force elements, a clock; the layout of the state
-// vector y and the residual F(t, y, y') = 0 that both integrators solve.
+// vector y, the residual F(t, y, y') = 0 that both integrators solve, and its analytic Jacobian.
 //
 // State layout (the "stabilized index-2" form of Gear, Gupta and Leimkuhler, J. Comput. Appl. Math. 12, 1985):
-//   y = [ body 1: q, w, nu | body 2: ... | clock angle | lambda (one per constraint equation) | mu (same) ]
+//   y = [ body 1: q, w | body 2: ... | clock angle | element states z | energy: dissipated, input |
+//         lambda (one per constraint equation) | mu (same) ]
 // Residual rows:
-//   kinematics    q' - H(q) (w - C^T mu) [- p nu]          = 0   (per body)
-//   normalization p.p - 1                                  = 0   (per rigid body)
-//   dynamics      M(q) w' + h(q, w) - Q(t, q, w) + C^T lambda = 0   (per body)
-//   clock         phi' - (omega_i - omega_j) . z_j          = 0
-//   velocity      C(q) w + Phi_t                           = 0   (multiplier lambda)
-//   position      Phi(q, t)                                = 0   (multiplier mu)
+//   kinematics    q' - H(q) (w - C^T mu)                      = 0   (per body)
+//   dynamics      M(q) w' + h(q, w) - Q(t, q, w, z) + C^T lambda = 0   (per body)
+//   clock         phi' - (omega_i - omega_j) . z_j             = 0
+//   elements      r_e(t, markers, z, z')                       = 0   (their own rows)
+//   energy        E_d' - P_dissipated,  W_in' - P_input         = 0   (integrals for the energy balance)
+//   velocity      C(q) w + Phi_t                               = 0   (multiplier lambda)
+//   position      Phi(q, t)                                    = 0   (multiplier mu)
 // so that positions and velocities both satisfy the constraints, mu = 0 on the exact solution, and lambda are
 // the reaction multipliers. Redundant equations (a planar linkage of revolute joints in 3D) are found at the
 // start by a rank-revealing QR of C and removed: their rows become lambda_k = 0 and mu_k = 0.
+//
+// Jacobian (jacobian(): dF/dy + cj dF/dy', in the pattern of jacobian_pattern()): assembled from the bodies'
+// own blocks and marker sensitivities (body.hpp) and each element's Jacobian by its markers' motion
+// (force_element.hpp) through the chain rule; constraints' first derivatives are exact (their D matrices), the
+// change of D with the markers' pose (d(C w)/dq, d(C^T lambda)/dq) is differentiated locally per constraint.
+// Two terms are left out by design: d(C^T mu)/dq in the kinematic rows (mu = 0 on the solution) and the energy
+// rows' dependence on the state (the integrals feed nothing back). Not thread-safe: the residual and Jacobian
+// use preallocated workspaces (no heap allocation per call for rigid bodies and point masses).
 #include <memory>
 #include <optional>
 #include <string>
@@ -42,8 +52,10 @@ struct ConstraintEntry {
 struct ForceEntry {
   std::string name;
   std::unique_ptr<ForceElement> element;
-  MarkerRef i;
-  std::optional<MarkerRef> j;  // none for loads
+  std::vector<MarkerRef> markers;  // in the element's order (i, j for two-marker elements)
+  int state_offset = 0;            // of its internal states in y (set by finalize)
+  int state_count = 0;
+  int gap_offset = 0;              // of its gaps among all gaps
 };
 
 struct ClockDefinition {
@@ -59,8 +71,21 @@ struct SparsityPattern {
   int nonzeros() const { return static_cast<int>(rows.size()); }
 };
 
+/// The terms of the energy balance (J): kinetic + potential + dissipated - input = its initial value.
+struct EnergyBalance {
+  double kinetic = 0;     // bodies
+  double potential = 0;   // gravity, elastic strain of flexible bodies, energy stored in elements
+  double dissipated = 0;  // integral of the dissipated power (elements, structural damping)
+  double input = 0;       // integral of the power of sources (loads, motors) and of driven joints
+};
+
 class Model {
  public:
+  Model();
+  ~Model();
+  Model(Model&&) noexcept;
+  Model& operator=(Model&&) noexcept;
+
   Vec3 gravity = Vec3::Zero();
   std::vector<std::unique_ptr<Body>> bodies;
   std::vector<ConstraintEntry> constraints;
@@ -74,32 +99,43 @@ class Model {
   int constraint_equations() const { return n_eq_; }
   int body_offset(int b) const { return body_offset_[b]; }
   int clock_index() const { return clock_index_; }
+  int energy_offset() const { return energy_offset_; }
   int lambda_offset() const { return lambda_offset_; }
   int mu_offset() const { return mu_offset_; }
-  /// 1 for differential variables, 0 for algebraic ones (nu, lambda, mu) - IDA's id vector.
+  int gap_count() const { return n_gaps_; }
+  /// 1 for differential variables, 0 for algebraic ones (lambda, mu, algebraic element states).
   Eigen::VectorXd differential_mask() const;
+  /// 1 for the variables in the integrators' error test: the differential ones less the energy integrals.
+  Eigen::VectorXd error_test_mask() const;
   /// Per state, a human-readable owner ("body crank: w[3]", "joint pin: lambda point-x") for messages.
   std::string describe_state(int k) const;
 
-  /// F(t, y, y'). Thread-compatible (no mutable state).
+  /// F(t, y, y').
   void residual(double t, const double* y, const double* yp, double* f) const;
+  /// dF/dy + cj dF/dy' at (t, y, y'), in the order of jacobian_pattern()'s entries.
+  void jacobian(double t, const double* y, const double* yp, double cj, std::vector<double>& values) const;
+  /// The gaps of all contact elements (> 0 open): the integrators locate their sign changes.
+  void gaps(double t, const double* y, const double* yp, double* out) const;
 
   /// Consistent initial y, y' at t0: positions projected onto Phi = 0, redundant equations found and
   /// deactivated (reported to `log`), velocities projected onto C w + Phi_t = 0, accelerations and lambda
-  /// from the augmented system [M C^T; C 0].
+  /// from the augmented system [M C^T; C 0], element states at their initial values.
   void consistent_initial_state(double t0, Eigen::VectorXd& y, Eigen::VectorXd& yp, const Logger& log);
 
   SparsityPattern jacobian_pattern() const;
 
-  // --- kinematics for output ---
+  // --- kinematics and element values for output ---
   MarkerMotion marker_motion(const MarkerRef& m, const double* y) const;
   /// Marker acceleration (global) from y, y': Jv w' + d(Jv)/dt w (the latter by a directional difference).
   Vec3 marker_acceleration(const MarkerRef& m, const double* y, const double* yp) const;
-  ForceContext context(double t, const double* y) const;
+  /// The input an element sees at (t, y, y'); `markers` is filled (sized by the caller or here).
+  ElementInput element_input(const ForceEntry& f, double t, const double* y, const double* yp,
+                             std::vector<MarkerMotion>& markers) const;
   /// Reaction force and torque (global) on body i of a constraint, at marker i.
   void reaction(int c, const double* y, Vec3& force, Vec3& torque) const;
   double crank_angle(const double* y) const { return clock_index_ >= 0 ? y[clock_index_] : 0.0; }
   double total_kinetic_energy(const double* y) const;
+  EnergyBalance energy(double t, const double* y, const double* yp) const;
   /// Largest violation of the active position equations |Phi| (m or rad) and of the velocity equations
   /// |C w + Phi_t| (m/s or rad/s): the constraint drift.
   std::pair<double, double> constraint_violation(double t, const double* y) const;
@@ -108,18 +144,27 @@ class Model {
   std::span<const double> velocities(int b, const double* y) const;
 
  private:
+  struct Workspace;
   void constraint_matrix(double t, const double* y, Eigen::MatrixXd& c, Eigen::VectorXd& phi,
                          Eigen::VectorXd& phi_t) const;  // all equations, dense (start-up only)
   int velocity_offset(int b) const { return body_offset_[b] + bodies[b]->position_count(); }
+  /// Wrenches (and state rows) of element f at (t, y, y'), into the workspace.
+  void evaluate_element(std::size_t f, double t, const double* y, const double* yp, double* state_rows) const;
+  /// Powers (W) of the element wrenches: dissipated, and the input of sources.
+  void element_powers(double t, const double* y, const double* yp, double& dissipated, double& input) const;
+  double driver_power(double t, const double* y) const;
 
   int size_ = 0;
   int n_eq_ = 0;
   int clock_index_ = -1;
+  int energy_offset_ = 0;
   int lambda_offset_ = 0;
   int mu_offset_ = 0;
+  int n_gaps_ = 0;
   std::vector<int> body_offset_;
   std::vector<int> w_global_offset_;  // offset of each body's w in the stacked velocity vector
   int n_w_ = 0;
+  std::unique_ptr<Workspace> ws_;
 };
 
 }  // namespace nvh::solve

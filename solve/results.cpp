@@ -17,6 +17,7 @@ struct Signal {
 std::vector<Signal> signals_of(const Scene& s) {
   std::vector<Signal> out = {{"time", 0, "s"}, {"kinetic_energy", 0, "J"}};
   if (s.model.clock) out.push_back({"crank_angle_deg", 0, "deg"});
+  for (const char* e : {"kinetic", "potential", "dissipated", "input", "balance"}) out.push_back({std::string("energy/") + e, 0, "J"});
   for (const auto& name : s.marker_names) {
     out.push_back({"markers/" + name + "/position", 3, "m"});
     out.push_back({"markers/" + name + "/velocity", 3, "m/s"});
@@ -40,21 +41,8 @@ std::vector<Signal> signals_of(const Scene& s) {
     for (const auto& f : s.model.forces) {
       out.push_back({"forces/" + f.name + "/force", 3, "N"});
       out.push_back({"forces/" + f.name + "/torque", 3, "N m"});
-      for (const auto& c : f.element->channel_names()) {
-        const auto u = c.rfind('_');
-        std::string unit = c.substr(u + 1);
-        if (c.ends_with("_m3_s")) unit = "m^3/s";
-        else if (c.ends_with("_m_s")) unit = "m/s";
-        else if (c.ends_with("_pa")) unit = "Pa";
-        else if (c.ends_with("_w")) unit = "W";
-        else if (c.ends_with("_ratio")) unit = "1";
-        else if (c.ends_with("_n")) unit = "N";
-        else if (c.ends_with("_nm")) unit = "N m";
-        else if (c.ends_with("_rpm")) unit = "rpm";
-        else if (c.ends_with("_rad")) unit = "rad";
-        else if (c == "magnitude") unit = "N or N m (table value x scale)";
-        out.push_back({"forces/" + f.name + "/" + c, 0, unit});
-      }
+      for (const auto& c : f.element->channels()) out.push_back({"forces/" + f.name + "/" + c.name, 0, c.unit});
+      for (const auto& st : f.element->states()) out.push_back({"forces/" + f.name + "/states/" + st.name, 0, st.unit});
     }
   if (s.output.joints)
     for (const auto& c : s.model.constraints) {
@@ -128,7 +116,7 @@ ResultsWriter ResultsWriter::reopen(const std::filesystem::path& path, const Sce
   checkpoint.y = y.row(last).transpose();
   checkpoint.yp = yp.row(last).transpose();
   w.open_datasets(scene);
-  for (auto& [p, c] : w.channels_) c.dataset.truncate(static_cast<hsize_t>(checkpoint.samples));
+  for (auto& c : w.channels_) c.dataset.truncate(static_cast<hsize_t>(checkpoint.samples));
   w.samples_ = checkpoint.samples;
   root.set_attribute("status", "running");
   return w;
@@ -136,26 +124,35 @@ ResultsWriter ResultsWriter::reopen(const std::filesystem::path& path, const Sce
 
 void ResultsWriter::open_datasets(const Scene& scene) {
   h5::Group root = file_->root();
-  for (const auto& sig : signals_of(scene)) channels_[sig.path] = Channel{root.open_appendable(sig.path), {}};
+  channels_.clear();
+  for (const auto& sig : signals_of(scene)) channels_.push_back(Channel{root.open_appendable(sig.path), {}});
+  if (root.has_attribute("reference", "energy")) energy_reference_ = root.double_attribute("reference", "energy");
 }
 
 void ResultsWriter::add_sample(double t, const Scene& scene, const Eigen::VectorXd& y, const Eigen::VectorXd& yp) {
+  // Values go to the channels in the order of signals_of (no paths built per sample).
   const Model& m = scene.model;
-  auto put = [&](const std::string& path, const auto& v) {
-    auto& b = channel(path).buffer;
+  std::size_t next = 0;
+  auto put = [&](const auto& v) {
+    auto& b = channels_[next++].buffer;
     for (Eigen::Index k = 0; k < v.size(); ++k) b.push_back(v[k]);
   };
-  auto put1 = [&](const std::string& path, double v) { channel(path).buffer.push_back(v); };
-  put1("time", t);
-  put1("kinetic_energy", m.total_kinetic_energy(y.data()));
-  if (m.clock) put1("crank_angle_deg", m.crank_angle(y.data()) * 180.0 / std::numbers::pi);
-  for (std::size_t k = 0; k < scene.output_markers.size(); ++k) {
-    const auto& ref = scene.output_markers[k];
+  auto put1 = [&](double v) { channels_[next++].buffer.push_back(v); };
+  put1(t);
+  const EnergyBalance e = m.energy(t, y.data(), yp.data());
+  put1(e.kinetic);
+  if (m.clock) put1(m.crank_angle(y.data()) * 180.0 / std::numbers::pi);
+  const double total = e.kinetic + e.potential + e.dissipated - e.input;
+  if (!energy_reference_) {  // the balance is measured from the first sample of the run
+    energy_reference_ = total;
+    file_->root().set_attribute("reference", total, "energy");
+  }
+  for (double v : {e.kinetic, e.potential, e.dissipated, e.input, total - *energy_reference_}) put1(v);
+  for (const auto& ref : scene.output_markers) {
     const MarkerMotion mm = m.marker_motion(ref, y.data());
-    const std::string base = "markers/" + scene.marker_names[k] + "/";
-    put(base + "position", mm.position);
-    put(base + "velocity", mm.velocity);
-    put(base + "acceleration", m.marker_acceleration(ref, y.data(), yp.data()));
+    put(mm.position);
+    put(mm.velocity);
+    put(m.marker_acceleration(ref, y.data(), yp.data()));
   }
   if (scene.output.bodies)
     for (std::size_t b = 0; b < m.bodies.size(); ++b) {
@@ -163,47 +160,47 @@ void ResultsWriter::add_sample(double t, const Scene& scene, const Eigen::Vector
       if (body.velocity_count() == 0) continue;
       const auto q = m.positions(static_cast<int>(b), y.data());
       const auto w = m.velocities(static_cast<int>(b), y.data());
-      const std::string base = "bodies/" + body.name() + "/";
-      put(base + "position", body.reference_position(q));
-      put(base + "velocity", Eigen::Map<const Vec3>(w.data()));
+      put(body.reference_position(q));
+      put(Eigen::Map<const Vec3>(w.data()));
       if (body.kind() == "rigid" || body.kind() == "flexible") {
-        put(base + "euler_parameters", Eigen::Map<const Vec4>(q.data() + 3));
-        put(base + "angular_velocity", Vec3(body.rotation(q) * Eigen::Map<const Vec3>(w.data() + 3)));
+        put(Eigen::Map<const Vec4>(q.data() + 3));
+        put(Vec3(body.rotation(q) * Eigen::Map<const Vec3>(w.data() + 3)));
       }
       if (body.kind() == "flexible") {
-        const Eigen::Index m = body.position_count() - 7;
-        put(base + "modal_coordinates", Eigen::Map<const Eigen::VectorXd>(q.data() + 7, m));
-        put(base + "modal_velocities", Eigen::Map<const Eigen::VectorXd>(w.data() + 6, m));
+        const Eigen::Index n = body.position_count() - 7;
+        put(Eigen::Map<const Eigen::VectorXd>(q.data() + 7, n));
+        put(Eigen::Map<const Eigen::VectorXd>(w.data() + 6, n));
       }
     }
   if (scene.output.forces) {
-    const ForceContext ctx = m.context(t, y.data());
-    static const MarkerMotion kFixed{};
+    std::vector<MarkerMotion>& markers = motions_;
     for (const auto& f : m.forces) {
-      const MarkerMotion mi = m.marker_motion(f.i, y.data());
-      const MarkerMotion mj = f.j ? m.marker_motion(*f.j, y.data()) : kFixed;
-      const ElementForce ef = f.element->evaluate(ctx, mi, mj);
-      const std::string base = "forces/" + f.name + "/";
-      put(base + "force", ef.force);
-      put(base + "torque", ef.torque);
-      const auto names = f.element->channel_names();
-      std::vector<double> values(names.size());
-      f.element->channels(ctx, mi, mj, values);
-      for (std::size_t c = 0; c < names.size(); ++c) put1(base + names[c], values[c]);
+      const ElementInput in = m.element_input(f, t, y.data(), yp.data(), markers);
+      wrenches_.assign(f.markers.size(), Wrench{});
+      state_rows_.assign(f.state_count, 0.0);
+      ElementOutput out{wrenches_, state_rows_};
+      f.element->evaluate(in, out);
+      put(wrenches_[0].force);
+      put(wrenches_[0].torque);
+      values_.assign(f.element->channels().size(), 0.0);
+      f.element->channel_values(in, values_);
+      for (double v : values_) put1(v);
+      for (double z : in.z) put1(z);
     }
   }
   if (scene.output.joints)
     for (std::size_t c = 0; c < m.constraints.size(); ++c) {
       Vec3 force, torque;
       m.reaction(static_cast<int>(c), y.data(), force, torque);
-      put("joints/" + m.constraints[c].name + "/reaction_force", force);
-      put("joints/" + m.constraints[c].name + "/reaction_torque", torque);
+      put(force);
+      put(torque);
     }
+  if (next != channels_.size()) throw Error("results: internal error, the sample does not fill the channels");
   ++samples_;
 }
 
 void ResultsWriter::flush(const Checkpoint& cp) {
-  for (auto& [path, c] : channels_) {
+  for (auto& c : channels_) {
     c.dataset.append(c.buffer);
     c.buffer.clear();
     c.dataset.flush();

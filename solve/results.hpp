@@ -4,6 +4,7 @@
 // until the end), and a checkpoint after every chunk from which `solve --restart` continues.
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -50,10 +51,13 @@ class ResultsWriter {
     h5::AppendableDataset dataset;
     std::vector<double> buffer;
   };
-  Channel& channel(const std::string& path) { return channels_.at(path); }
 
   std::unique_ptr<h5::File> file_;
-  std::map<std::string, Channel> channels_;
+  std::vector<Channel> channels_;  // in the order of the scene's signals
+  std::optional<double> energy_reference_;  // kinetic + potential + dissipated - input at the first sample, J
+  std::vector<MarkerMotion> motions_;
+  std::vector<Wrench> wrenches_;
+  std::vector<double> state_rows_, values_;
   long samples_ = 0;
 };
 

@@ -22,8 +22,11 @@ inline Mat3 skew(const Vec3& a) {
   return s;
 }
 
-/// Rotation matrix (body -> global) of Euler parameters p (need not be exactly unit: used as given).
-inline Mat3 rotation_matrix(const Vec4& p) {
+/// Rotation matrix (body -> global) of Euler parameters p. p is normalized here, so A is a rotation for any
+/// p != 0 (the kinematic equation keeps |p| = 1 to round-off; this makes A and every marker a function of
+/// p / |p| alone, whose derivatives the analytic Jacobian uses: rotation_sensitivity).
+inline Mat3 rotation_matrix(const Vec4& p_raw) {
+  const Vec4 p = p_raw / p_raw.norm();
   const double e0 = p[0];
   const Vec3 e = p.tail<3>();
   return (2 * e0 * e0 - 1) * Mat3::Identity() + 2 * (e * e.transpose() + e0 * skew(e));
@@ -35,6 +38,24 @@ inline Mat34 l_matrix(const Vec4& p) {
   l.col(0) = -p.tail<3>();
   l.rightCols<3>() = -skew(p.tail<3>()) + p[0] * Mat3::Identity();
   return l;
+}
+
+/// d(theta)/dp: the small global rotation of A(p) per change of p (3 x 4): dA = (Theta dp)~ A with
+/// Theta = 2 A(p^) L(p^) / |p| = 2 G(p^) / |p| (omega = 2 G p' for unit p; Nikravesh 6.37), p^ = p / |p|.
+inline Mat34 rotation_sensitivity(const Vec4& p_raw) {
+  const double n = p_raw.norm();
+  const Vec4 p = p_raw / n;
+  return 2.0 / n * rotation_matrix(p) * l_matrix(p);
+}
+
+/// B(omega) with L(p)^T omega = B(omega) p (4 x 4): the derivative of the Euler parameter rates by p.
+inline Eigen::Matrix4d rate_matrix(const Vec3& w) {
+  Eigen::Matrix4d b;
+  b(0, 0) = 0;
+  b.block<1, 3>(0, 1) = -w.transpose();
+  b.block<3, 1>(1, 0) = w;
+  b.block<3, 3>(1, 1) = -skew(w);
+  return b;
 }
 
 /// Euler parameters of a rotation matrix (Shepperd's method via Eigen), e0 >= 0.

@@ -5,9 +5,8 @@
 #include <optional>
 
 #include "common/input.hpp"
+#include "solve/element_registry.hpp"
 #include "solve/flexible_body.hpp"
-#include "solve/force_elements.hpp"
-#include "solve/journal_bearing_element.hpp"
 #include "solve/scene.hpp"
 
 namespace nvh::solve {
@@ -34,8 +33,8 @@ class SceneReader {
     if (s_.model.bodies.empty()) root.fail("a scene needs at least one [[body]]");
     for (const auto& j : root.table_array("joint")) read_joint(j);
     for (const auto& d : root.table_array("driver")) read_driver(d);
-    for (const auto& f : root.table_array("force")) read_force(f);
-    for (const auto& l : root.table_array("load")) read_load(l);
+    for (const auto& f : root.table_array("force")) read_element(f, "force");
+    for (const auto& l : root.table_array("load")) read_element(l, "load");
     read_clock(root);
     read_integrator(root);
     read_output(root);
@@ -120,8 +119,8 @@ class SceneReader {
     s_.model.bodies.push_back(std::move(body));
   }
 
-  MarkerRef marker(const Table& t, std::string_view key) const {
-    const std::string full = t.string(key);
+  MarkerRef marker(const Table& t, std::string_view key) const { return marker(t, key, t.string(key)); }
+  MarkerRef marker(const Table& t, std::string_view key, const std::string& full) const {
     const auto dot = full.find('.');
     if (dot == std::string::npos)
       t.fail(key, "expected a marker as \"body.marker\", got \"" + full + "\"");
@@ -174,35 +173,8 @@ class SceneReader {
     add_constraint(t, name, make_joint(types.at(type)), i, j);
   }
 
-  /// A table y(x) from 'table' = [[x, y], ...] or 'file' = "t.csv" with 'columns' = ["x", "y"].
-  Table1D table_from(const Table& t, const std::string& what, double period = 0.0) {
-    if (t.has("table") && t.has("file")) t.fail("file", "give either 'table' or 'file', not both");
-    try {
-      if (t.has("file")) {
-        const auto file = base_ / t.string("file");
-        const std::vector<std::string> cols =
-            t.has("columns") ? t.strings("columns") : std::vector<std::string>{"", ""};
-        if (cols.size() != 2) t.fail("columns", "expected two column names [abscissa, value]");
-        s_.input_files.push_back(file);
-        return read_csv_table(file, cols[0], cols[1], period);
-      }
-      if (!t.has("table"))
-        t.fail("the " + what + " needs 'table' = [[x, y], ...] or 'file' = \"table.csv\"");
-      std::vector<double> x, y;
-      for (const auto& row : t.number_rows("table", 2)) {
-        x.push_back(row[0]);
-        y.push_back(row[1]);
-      }
-      return Table1D(std::move(x), std::move(y), "the table", period);
-    } catch (const Error& e) {
-      if (!e.where().file.empty()) throw;
-      t.fail(t.has("file") ? "file" : "table", e.what());
-    }
-  }
-
   void read_driver(const Table& t);
-  void read_force(const Table& t);
-  void read_load(const Table& t);
+  void read_element(const Table& t, const std::string& section);
   void read_clock(const Table& root);
   void read_integrator(const Table& root);
   void read_output(const Table& root);
@@ -216,15 +188,12 @@ class SceneReader {
 };
 
 void SceneReader::read_driver(const Table& t) {
+  std::vector<std::string> types = {"speed"};
+  for (const auto& n : builtin_elements().names("driver")) types.push_back(n);
+  const std::string type = t.choice("type", types);
+  if (type != "speed") return read_element(t, "driver");  // a torque-speed curve: a force element
   const std::string name = t.string("name");
-  const std::string type = t.choice("type", {"speed", "motor"});
   const MarkerRef i = marker(t, "i"), j = marker(t, "j");
-  if (type == "motor") {  // torque-speed curve: a force element
-    Table1D curve = table_from(t, "motor torque-speed curve (rpm, N m)");
-    t.finish();
-    s_.model.forces.push_back({name, std::make_unique<MotorTorque>(std::move(curve)), i, j});
-    return;
-  }
   // Prescribed speed: the angle theta(t) = theta0 + integral of omega(t); theta0 is the initial angle.
   const double theta0 = relative_angle(initial_motion(i), initial_motion(j));
   std::function<double(double)> theta, rate;
@@ -235,7 +204,8 @@ void SceneReader::read_driver(const Table& t) {
     theta = [=](double time) { return theta0 + w * time; };
     rate = [=](double) { return w; };
   } else {
-    auto table = std::make_shared<Table1D>(table_from(t, "speed driver's rpm(t)"));
+    ElementContext context{t, base_, s_.input_files, {}};
+    auto table = std::make_shared<Table1D>(context.table_from("speed driver's rpm(t)"));
     theta = [=](double time) { return theta0 + kRpm * table->integral(time) - kRpm * table->integral(0.0); };
     rate = [=](double time) { return kRpm * (*table)(time); };
   }
@@ -243,100 +213,33 @@ void SceneReader::read_driver(const Table& t) {
   add_constraint(t, name, std::make_unique<AngleDriver>(theta, rate), i, j);
 }
 
-void SceneReader::read_force(const Table& t) {
+void SceneReader::read_element(const Table& t, const std::string& section) {
   const std::string name = t.string("name");
-  const std::string type = t.choice("type", {"spring-damper", "bushing", "torsional-spring-damper", "contact",
-                                             "table-force", "motor", "journal-bearing"});
-  const MarkerRef i = marker(t, "i"), j = marker(t, "j");
-  std::unique_ptr<ForceElement> e;
-  if (type == "spring-damper") {
-    SpringDamper::Parameters p;
-    p.k0 = t.number_or("k", 0.0, Range::non_negative());
-    p.d0 = t.number_or("d", 0.0, Range::non_negative());
-    p.kb = t.number_or("kB", 0.0);
-    p.db = t.number_or("dB", 0.0);
-    p.xb = t.number_or("xB", 1.0, Range::positive());
-    p.preload = t.number_or("preload", 0.0);
-    if (t.has("free_length")) {
-      p.free_length = t.number("free_length", Range::non_negative());
-    } else {  // the initial distance: no force at the start
-      p.free_length = (initial_motion(i).position - initial_motion(j).position).norm();
+  const ElementRegistry& registry = builtin_elements();
+  const std::string type = section == "driver" ? t.string("type") : t.choice("type", registry.names(section));
+  const ElementType& et = *registry.find(section, type);
+  std::vector<MarkerRef> markers;
+  for (const auto& key : et.marker_keys) {
+    if (key == "markers") {
+      for (const auto& full : t.strings("markers")) markers.push_back(marker(t, "markers", full));
+      if (markers.empty()) t.fail("markers", "expected at least one marker \"body.marker\"");
+    } else {
+      markers.push_back(marker(t, key));
     }
-    e = std::make_unique<SpringDamper>(p);
-  } else if (type == "bushing") {
-    auto matrix6 = [&](const char* key) {
-      Bushing::Matrix6 m = Bushing::Matrix6::Zero();
-      if (!t.has(key)) return m;
-      const auto v = t.numbers(key);
-      if (v.size() == 6) {
-        for (int k = 0; k < 6; ++k) m(k, k) = v[k];
-      } else if (v.size() == 36) {
-        for (int k = 0; k < 36; ++k) m(k / 6, k % 6) = v[k];
-      } else {
-        t.fail(key, "expected 6 diagonal values [x, y, z, rx, ry, rz] or 36 values of a 6 x 6 matrix, row by row");
-      }
-      return m;
-    };
-    e = std::make_unique<Bushing>(matrix6("stiffness"), matrix6("damping"));
-  } else if (type == "torsional-spring-damper") {
-    e = std::make_unique<TorsionalSpringDamper>(t.number("k", Range::non_negative()),
-                                                t.number_or("d", 0.0, Range::non_negative()),
-                                                t.number_or("angle0_deg", 0.0) * kPi / 180.0);
-  } else if (type == "contact") {
-    Contact::Parameters p;
-    p.stiffness = t.number("stiffness", Range::positive());
-    p.exponent = t.number_or("exponent", 1.5, Range::closed(1.0, 3.0));
-    p.restitution = t.number_or("restitution", 1.0, Range::open(0.0, 1.0 + 1e-12));
-    p.reference_speed = t.number_or("reference_speed", 1.0, Range::positive());
-    p.clearance = t.number_or("clearance", 0.0);
-    p.mu_static = t.number_or("mu_static", 0.0, Range::non_negative());
-    p.mu_dynamic = t.number_or("mu_dynamic", p.mu_static, Range::non_negative());
-    p.stribeck_speed = t.number_or("stribeck_speed", 0.01, Range::positive());
-    p.regularization_speed = t.number_or("regularization_speed", 1e-4, Range::positive());
-    e = std::make_unique<Contact>(p);
-  } else if (type == "journal-bearing") {
-    e = make_journal_bearing(t);
-  } else if (type == "table-force") {
-    e = std::make_unique<TableForce>(table_from(t, "force-deflection table (m, N)"));
-  } else {
-    e = std::make_unique<MotorTorque>(table_from(t, "motor torque-speed curve (rpm, N m)"));
   }
+  ElementContext context{t, base_, s_.input_files, {}};
+  for (const auto& m : markers) context.initial.push_back(initial_motion(m));
+  std::unique_ptr<ForceElement> e = et.make(context);
   t.finish();
-  if (i.body == j.body) t.fail("j", "markers i and j are on the same body: a force element connects two bodies");
-  s_.model.forces.push_back({name, std::move(e), i, j});
-}
-
-void SceneReader::read_load(const Table& t) {
-  const std::string name = t.string("name");
-  const std::string type = t.choice("type", {"force", "torque"});
-  const MarkerRef at = marker(t, "at");
-  TableLoad::Parameters p;
-  p.torque = type == "torque";
-  p.direction = to_vec(t.vec3("direction"));
-  if (p.direction.norm() < 1e-12) t.fail("direction", "the direction must not be zero");
-  p.direction.normalize();
-  p.marker_axes = t.optional_choice("axes", {"global", "marker"}).value_or("global") == "marker";
-  if (t.has("amplitude") || t.has("frequency_hz")) {  // harmonic
-    HarmonicLoad::Parameters h{p.torque, p.direction, p.marker_axes, t.number("amplitude"),
-                               t.number("frequency_hz", Range::non_negative()),
-                               t.number_or("phase_deg", 0.0) * kPi / 180.0};
-    t.finish();
-    s_.model.forces.push_back({name, std::make_unique<HarmonicLoad>(h), at, std::nullopt});
-    return;
-  }
-  const std::string abscissa = t.optional_choice("abscissa", {"time", "crank-angle"}).value_or("time");
-  p.abscissa = abscissa == "time" ? TableLoad::Abscissa::kTime : TableLoad::Abscissa::kCrankAngle;
-  p.scale = t.number_or("scale", 1.0);
-  p.offset_deg = t.number_or("offset_deg", 0.0);
-  double period = 0.0;
-  if (p.abscissa == TableLoad::Abscissa::kCrankAngle) {
-    period = t.number_or("period_deg", 720.0, Range::positive());
+  if (markers.size() == 2 && markers[0].body == markers[1].body)
+    t.fail(et.marker_keys.back(), "markers i and j are on the same body: a force element connects two bodies");
+  for (const auto& f : s_.model.forces)
+    if (f.name == name) t.fail("name", "a force, load or driver named '" + name + "' is defined twice");
+  if (e->uses_crank_angle()) {
     needs_clock_ = true;
     clock_user_ = t;
   }
-  Table1D table = table_from(t, "load table (" + std::string(abscissa == "time" ? "s" : "deg") + ", value)", period);
-  t.finish();
-  s_.model.forces.push_back({name, std::make_unique<TableLoad>(std::move(table), p), at, std::nullopt});
+  s_.model.forces.push_back({name, std::move(e), std::move(markers)});
 }
 
 void SceneReader::read_clock(const Table& root) {
@@ -387,7 +290,7 @@ void SceneReader::read_integrator(const Table& root) {
   s.rho_inf = t->number_or("rho_inf", s.rho_inf, Range::closed(0.0, 1.0));
   s.step = t->number_or("step", s.step, Range::positive());
   s.adaptive = t->optional_boolean("adaptive").value_or(s.adaptive);
-  s.jacobian = t->optional_choice("jacobian", {"colored-fd", "dense-fd"}).value_or(s.jacobian);
+  s.jacobian = t->optional_choice("jacobian", {"analytic", "colored-fd", "dense-fd"}).value_or(s.jacobian);
   t->finish();
 }
 

@@ -1,0 +1,16 @@
+#pragma once
+// The registration functions of the element types shipped with solve, one per element file.
+#include "solve/element_registry.hpp"
+
+namespace nvh::solve {
+
+void register_spring_damper(ElementRegistry&);
+void register_bushing(ElementRegistry&);
+void register_torsional_spring_damper(ElementRegistry&);
+void register_contact(ElementRegistry&);
+void register_table_force(ElementRegistry&);
+void register_motor(ElementRegistry&);
+void register_loads(ElementRegistry&);
+void register_journal_bearing(ElementRegistry&);
+
+}  // namespace nvh::solve
