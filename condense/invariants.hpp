@@ -18,26 +18,14 @@
 #include <Eigen/Core>
 #include <vector>
 
+#include "common/inertia_invariants.hpp"
 #include "condense/fe_model.hpp"
 
 namespace nvh::condense {
 
-struct RigidBodyInertia {
-  double mass = 0.0;               ///< kg
-  Eigen::Vector3d center_of_mass;  ///< m, component axes
-  Eigen::Matrix3d inertia;         ///< about the centre of mass, component axes, kg m^2
-  Eigen::Matrix3d inertia_origin;  ///< about the component origin, kg m^2
-  Eigen::Matrix3d second_moment;   ///< I_kl = int rho x_k x_l dV about the origin, kg m^2
-};
-
-struct ModalInvariants {
-  Eigen::MatrixXd translational;  ///< 3 x n
-  Eigen::MatrixXd rotational;     ///< 3 x n
-  /// position[k * 3 + l] = I_tilde_kl (length n)
-  std::vector<Eigen::VectorXd> position;
-  /// quadratic[k * 3 + l] = S_kl (n x n)
-  std::vector<Eigen::MatrixXd> quadratic;
-};
+// The plain-data results are the superelement file's (common/inertia_invariants.hpp).
+using nvh::ModalInvariants;
+using nvh::RigidBodyInertia;
 
 /// Mass, centre of mass and inertia from the 6x6 rigid-body mass R^T M R (R about the origin).
 RigidBodyInertia rigid_body_inertia(const Eigen::Matrix<double, 6, 6>& rigid_mass);

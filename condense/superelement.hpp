@@ -1,65 +1,24 @@
 #pragma once
-// The superelement: what `condense` hands to `solve` and to the user, and its HDF5 file.
-// The layout (every dataset's shape, unit and meaning) is documented in docs/hdf5-format.md; the
-// paths below are fixed by that contract.
-#include <Eigen/Core>
-#include <array>
-#include <cstdint>
+// The superelement as condense makes it: the file contract (common/superelement.hpp, docs/hdf5-format.md)
+// plus condense's record of the run, which goes to the /model group of the file for the user's
+// information and is not part of what solve reads.
 #include <filesystem>
-#include <optional>
 #include <string>
 #include <vector>
 
 #include "common/provenance.hpp"
+#include "common/superelement.hpp"
 #include "condense/invariants.hpp"
 
 namespace nvh::condense {
 
-inline constexpr const char* kSuperelementFormat = "superelement";
-inline constexpr const char* kSuperelementFormatVersion = "1.0";
+using nvh::kSuperelementFormat;
+using nvh::kSuperelementFormatVersion;
+using nvh::PointSet;
+using nvh::SurfaceExport;
 
-/// Points of the component (interfaces or observation points) and their motion per coordinate.
-struct PointSet {
-  std::vector<std::string> names;
-  Eigen::MatrixXd position;  ///< count x 3, m
-  /// shapes[p] is 6 x n: (ux uy uz rx ry rz) of point p per unit of each coordinate.
-  std::vector<Eigen::MatrixXd> shapes;
-  /// Volume observation points: the outward unit normal at the surface node (count x 3); else empty.
-  Eigen::MatrixXd normals;
-};
-
-/// The outer surface of a volume component with the translations of its nodes per coordinate.
-struct SurfaceExport {
-  std::vector<std::int64_t> labels;           ///< mesh node labels
-  Eigen::MatrixXd position;                   ///< nodes x 3, m
-  Eigen::MatrixXd normal;                     ///< nodes x 3, outward unit normals
-  Eigen::VectorXd area;                       ///< nodes, m^2
-  std::vector<std::array<int, 3>> triangles;  ///< flat sub-triangles, 0-based indices into the nodes
-  std::vector<double> shape;                  ///< (nodes, 3, n) row-major: ux uy uz per unit coordinate
-};
-
-struct Superelement {
-  std::string name;
-  std::string kind;    ///< "beam"
-  std::string method;  ///< "modal" | "craig-bampton" | "guyan"
-  bool orthonormalized = false;
-  double damping_ratio = 0.0;
-  int rigid_body_modes_removed = 0;
-  int rigid_body_modes_contained = 0;
-
-  Eigen::VectorXd frequency_hz;  ///< /modes/frequency_hz
-  Eigen::VectorXd fixed_interface_hz;
-  std::vector<std::string> coordinates;
-  Eigen::MatrixXd mass, stiffness, damping;  ///< /reduced/*
-
-  PointSet interfaces;                   ///< /interface/*
-  PointSet observers;                    ///< /observe/*
-  std::optional<SurfaceExport> surface;  ///< /surface/* when exported
-
-  RigidBodyInertia inertia;    ///< /invariants/mass, center_of_mass, inertia, ...
-  ModalInvariants invariants;  ///< /invariants/translational_coupling, ...
-
-  // Model size and cost, for the user's information (/model).
+/// Model size and cost of a condense run, for the user's information (/model, docs/hdf5-format.md).
+struct ModelRecord {
   int node_count = 0;
   int element_count = 0;
   int dof_count = 0;
@@ -81,15 +40,16 @@ struct Superelement {
   double factor_seconds = 0.0;  ///< their numeric factorization
   double eigen_seconds = 0.0;   ///< Lanczos iterations (or the dense eigen-solve)
   int eigen_solves = 0;         ///< solves with the factorization in the Lanczos iterations
-
-  int size() const { return static_cast<int>(mass.rows()); }
 };
 
-/// Write to `path` through a temporary file renamed when complete.
+/// The file's contents and condense's record of the run that made them.
+struct Superelement : SuperelementFile, ModelRecord {};
+
+/// Write the /model group's attributes of `record` into `root`.
+void write_model_record(h5::Group& root, const ModelRecord& record);
+
+/// Write to `path` through common's writer (a temporary file renamed when complete), with /model.
 void write_superelement(const std::filesystem::path& path, const Superelement& se,
                         const Provenance& provenance);
-
-/// Read a superelement file, checking format, version and every shape.
-Superelement read_superelement(const std::filesystem::path& path);
 
 }  // namespace nvh::condense

@@ -24,7 +24,7 @@
 #include <sstream>
 
 #include "common/error.hpp"
-#include "condense/superelement.hpp"
+#include "common/superelement.hpp"
 
 namespace nvh::solve {
 namespace {
@@ -57,7 +57,7 @@ Mat3 angular_rate_matrix(const Vec3& theta) {
   return Mat3::Identity() + c1 * t + c2 * t * t;
 }
 
-FlexibleData::Point read_point(const condense::PointSet& set, std::size_t k) {
+FlexibleData::Point read_point(const PointSet& set, std::size_t k) {
   FlexibleData::Point p;
   p.name = set.names[k];
   p.position = set.position.row(static_cast<int>(k)).transpose();
@@ -70,7 +70,7 @@ FlexibleData::Point read_point(const condense::PointSet& set, std::size_t k) {
 
 // ---------------------------------------------------------------- the superelement
 FlexibleData load_flexible_data(const std::filesystem::path& file, int modes) {
-  const condense::Superelement se = condense::read_superelement(file);
+  const SuperelementFile se = read_superelement(file);
   const std::string where = file.string();
   const int n_all = se.size();
   if (se.inertia.mass <= 0)

@@ -11,7 +11,7 @@
 #include <string>
 
 #include "common/hdf5.hpp"
-#include "condense/superelement.hpp"
+#include "common/superelement.hpp"
 
 namespace fs = std::filesystem;
 
@@ -130,7 +130,7 @@ TEST_F(CondenseCli, GoodInputWritesTheDocumentedLayout) {
   }
   EXPECT_TRUE(root.has_attribute("stage_seconds", "model"));
   EXPECT_GT(root.double_attribute("peak_memory_bytes", "model"), 1e6);  // a process takes more than 1 MB
-  const nvh::condense::Superelement se = nvh::condense::read_superelement(output());
+  const nvh::SuperelementFile se = nvh::read_superelement(output());
   EXPECT_EQ(se.interfaces.names.at(0), "tip");
   EXPECT_NEAR(se.inertia.mass, 7850.0 * 7.85e-5 * 1.0, 1e-9);
   EXPECT_TRUE(directory_holds_only_the_input() == false);
@@ -208,7 +208,7 @@ TEST_F(CondenseCli, BadCommandLineExitsWithTwo) {
 TEST_F(CondenseCli, CommandLineOverridesTheFile) {
   const CliRun run = run_condense(kGood, "--method modal --modes 3");
   ASSERT_EQ(run.exit_code, 0) << run.output;
-  const nvh::condense::Superelement se = nvh::condense::read_superelement(output());
+  const nvh::SuperelementFile se = nvh::read_superelement(output());
   EXPECT_EQ(se.method, "modal");
   EXPECT_EQ(se.size(), 3);
 }

@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "common/log.hpp"
+#include "common/superelement.hpp"
 #include "condense/component_reader.hpp"
 #include "condense/condense.hpp"
 #include "condense/gmsh_mesh.hpp"
@@ -493,7 +494,7 @@ TEST_F(CoupledBar, ObservationOnTheSurfaceAndSurfaceExport) {
   // Round trip through the file.
   const fs::path file = dir_ / "bar.h5";
   write_superelement(file, se, make_provenance("test", 0, nullptr, {}));
-  const Superelement back = read_superelement(file);
+  const SuperelementFile back = nvh::read_superelement(file);
   ASSERT_TRUE(back.surface.has_value());
   EXPECT_EQ(back.surface->triangles.size(), s.triangles.size());
   EXPECT_EQ(back.surface->shape, s.shape);

@@ -23,6 +23,7 @@
 #include "common/hdf5.hpp"
 #include "common/log.hpp"
 #include "common/provenance.hpp"
+#include "common/superelement.hpp"
 #include "condense/condense.hpp"
 #include "solve/flexible_body.hpp"
 #include "solve/integrator.hpp"
@@ -227,7 +228,7 @@ TEST_P(Floating, TumblingBodyMovesAsTheEquivalentRigidBody) {
   const auto& c = GetParam();
   const fs::path dir = temp_dir(std::string("tumble_") + c.name);
   write_beam(dir / "beam.h5", condense::ReductionMethod::kModal, true, 0.0, 8);
-  const condense::Superelement se = condense::read_superelement(dir / "beam.h5");
+  const SuperelementFile se = read_superelement(dir / "beam.h5");
   const double m = se.inertia.mass;
   const Vec3 cm = se.inertia.center_of_mass;
   const Mat3 jc = se.inertia.inertia;
@@ -407,7 +408,7 @@ TEST(FlexibleBody, UserMarkersAndInitialModalState) {
   const MarkerMotion on_b = body.marker_motion(body.find_marker("b"), qs, ws);
   const MarkerMotion end = body.marker_motion(body.find_marker("end"), qs, ws);
   EXPECT_LT((on_b.position - end.position).norm(), 1e-15);
-  const condense::Superelement se = condense::read_superelement(dir / "ok.h5");
+  const SuperelementFile se = read_superelement(dir / "ok.h5");
   const Vec3 expected =
       Vec3(kL, 0, 1) + 1e-3 * se.interfaces.shapes[1].block<3, 1>(0, 0);  // shape of "b", mode 1
   EXPECT_LT((end.position - expected).norm(), 1e-15) << "u0 + Phi_t eta of the file";
