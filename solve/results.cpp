@@ -1,6 +1,7 @@
 #include "solve/results.hpp"
 
 #include <numbers>
+#include <set>
 
 #include "common/error.hpp"
 
@@ -49,6 +50,11 @@ std::vector<Signal> signals_of(const Scene& s) {
       out.push_back({"joints/" + c.name + "/reaction_force", 3, "N"});
       out.push_back({"joints/" + c.name + "/reaction_torque", 3, "N m"});
     }
+  std::set<std::string> seen;
+  for (const auto& sig : out)
+    if (!seen.insert(sig.path).second)
+      throw Error("two output channels of the scene share the path /" + sig.path +
+                  " (an element's channel named like its force or torque, or two joints of one name)");
   return out;
 }
 

@@ -23,7 +23,7 @@ class MotorTorque final : public ForceElement {
   void evaluate(const ElementInput& in, ElementOutput& out) const override {
     apply_at_i(in, out, Vec3::Zero(), table_(rpm(in)) * in.markers[1].axes.col(2), in.markers[0].position);
   }
-  std::vector<Channel> channels() const override { return {{"speed", "rpm"}, {"torque", "N m"}}; }
+  std::vector<Channel> channels() const override { return {{"speed", "rpm"}, {"motor_torque", "N m"}}; }
   void channel_values(const ElementInput& in, std::span<double> out) const override {
     out[0] = rpm(in);
     out[1] = table_(out[0]);

@@ -18,7 +18,7 @@ class TableForce final : public ForceElement {
   void evaluate(const ElementInput& in, ElementOutput& out) const override {
     apply_at_i(in, out, table_(deflection(in)) * in.markers[1].axes.col(2), Vec3::Zero(), in.markers[0].position);
   }
-  std::vector<Channel> channels() const override { return {{"deflection", "m"}, {"force", "N"}}; }
+  std::vector<Channel> channels() const override { return {{"deflection", "m"}, {"axial_force", "N"}}; }
   void channel_values(const ElementInput& in, std::span<double> out) const override {
     out[0] = deflection(in);
     out[1] = table_(out[0]);

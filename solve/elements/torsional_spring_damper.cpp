@@ -54,7 +54,7 @@ class TorsionalSpringDamper final : public ForceElement {
     return true;
   }
 
-  std::vector<Channel> channels() const override { return {{"twist", "rad"}, {"torque", "N m"}}; }
+  std::vector<Channel> channels() const override { return {{"twist", "rad"}, {"spring_torque", "N m"}}; }
   void channel_values(const ElementInput& in, std::span<double> out) const override {
     out[0] = in.z[0] - phi0_;
     out[1] = torque(in);
