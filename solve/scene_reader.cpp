@@ -267,10 +267,9 @@ void SceneReader::read_clock(const Table& root) {
     const double cycle = c->number_or("cycle_deg", 720.0, Range::positive());
     s_.end_angle_deg = c->has("end_angle_deg") ? c->number("end_angle_deg", Range::positive())
                                              : c->number("end_cycles", Range::positive()) * cycle;
-    if (!c->has("end_time_limit")) {
-      // The end time follows from the speed at run time; a generous bound stops a stalled run.
-      s_.end_time = c->number_or("end_time_limit", 1e9, Range::positive());
-    }
+    // The end time follows from the speed at run time; end_time_limit (default: a generous bound) stops a
+    // stalled or slow run.
+    s_.end_time = c->number_or("end_time_limit", 1e9, Range{s_.start_time, 1e12, true, false});
   }
   c->accept("end_time_limit");
   c->finish();
