@@ -43,6 +43,14 @@ void Body::add_wrench(int marker, std::span<const double> q, const Vec3& force, 
   Eigen::Map<Eigen::VectorXd>(generalized.data(), j.jv.cols()) += j.jv.transpose() * force + j.jw.transpose() * torque;
 }
 
+void Body::marker_twist(int marker, std::span<const double> q, std::span<const double> w, Vec3& velocity,
+                        Vec3& angular_velocity) const {
+  const MarkerJacobian j = marker_jacobian(marker, q);
+  const Eigen::Map<const Eigen::VectorXd> wv(w.data(), j.jv.cols());
+  velocity = j.jv * wv;
+  angular_velocity = j.jw * wv;
+}
+
 void Body::marker_sensitivity(int marker, std::span<const double> q, std::span<const double> w,
                               Eigen::Ref<Eigen::MatrixXd> out) const {
   std::vector<double> qq(q.begin(), q.end());
@@ -210,6 +218,20 @@ void RigidBody::marker_sensitivity(int marker, std::span<const double> q, std::s
   out.block<3, 4>(3, 3) = theta;
   out.block<3, 4>(6, 3) = -skew(a * omega.cross(s0)) * theta;
   out.block<3, 4>(9, 3) = -skew(a * omega) * theta;
+}
+
+// Jv w = v - A s0~ omega = v + A (omega x s0),  Jw w = A omega.
+void RigidBody::marker_twist(int marker, std::span<const double> q, std::span<const double> w, Vec3& velocity,
+                             Vec3& angular_velocity) const {
+  const Mat3 a = rotation_matrix(vec4(q, 3));
+  const Vec3 omega = vec3(w, 3);
+  velocity = vec3(w, 0) + a * omega.cross(markers()[marker].position);
+  angular_velocity = a * omega;
+}
+void PointMass::marker_twist(int, std::span<const double>, std::span<const double> w, Vec3& velocity,
+                             Vec3& angular_velocity) const {
+  velocity = vec3(w, 0);
+  angular_velocity.setZero();
 }
 
 // Q = [F; s0~ A^T F + A^T T]; d(A^T x)/dp = A^T x~ Theta.

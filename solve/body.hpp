@@ -88,6 +88,10 @@ class Body {
   virtual MarkerMotion marker_motion(int marker, std::span<const double> q,
                                      std::span<const double> w) const = 0;
   virtual MarkerJacobian marker_jacobian(int marker, std::span<const double> q) const = 0;
+  /// [Jv w; Jw w]: the marker's velocity and angular velocity as the constraints' velocity rows use them
+  /// (C w = D [Jv w; Jw w]; equal to marker_motion's on |p| = 1). Default: from marker_jacobian.
+  virtual void marker_twist(int marker, std::span<const double> q, std::span<const double> w, Vec3& velocity,
+                            Vec3& angular_velocity) const;
 
   /// Position of the body reference point and its rotation (output; identity where not defined).
   virtual Vec3 reference_position(std::span<const double> q) const = 0;
@@ -148,6 +152,9 @@ class Ground final : public Body {
   double kinetic_energy(std::span<const double>, std::span<const double>) const override { return 0; }
   double potential_energy(std::span<const double>, const Vec3&) const override { return 0; }
   void add_wrench(int, std::span<const double>, const Vec3&, const Vec3&, std::span<double>) const override {}
+  void marker_twist(int, std::span<const double>, std::span<const double>, Vec3& v, Vec3& omega) const override {
+    v.setZero(), omega.setZero();
+  }
 };
 
 /// The kinematic rows of a floating frame, q = [r (3), p (4), ...], w = [v (3), omega_body (3), ...]:
@@ -192,6 +199,8 @@ class RigidBody final : public Body {
   double potential_energy(std::span<const double> q, const Vec3& gravity) const override;
   void add_wrench(int marker, std::span<const double> q, const Vec3& force, const Vec3& torque,
                   std::span<double> generalized) const override;
+  void marker_twist(int marker, std::span<const double> q, std::span<const double> w, Vec3& velocity,
+                    Vec3& angular_velocity) const override;
   void marker_sensitivity(int marker, std::span<const double> q, std::span<const double> w,
                           Eigen::Ref<Eigen::MatrixXd> out) const override;
   void add_wrench_derivative(int marker, std::span<const double> q, const Vec3& force, const Vec3& torque,
@@ -236,6 +245,8 @@ class PointMass final : public Body {
   double potential_energy(std::span<const double> q, const Vec3& gravity) const override;
   void add_wrench(int marker, std::span<const double> q, const Vec3& force, const Vec3& torque,
                   std::span<double> generalized) const override;
+  void marker_twist(int marker, std::span<const double> q, std::span<const double> w, Vec3& velocity,
+                    Vec3& angular_velocity) const override;
   void marker_sensitivity(int marker, std::span<const double> q, std::span<const double> w,
                           Eigen::Ref<Eigen::MatrixXd> out) const override;
   void add_wrench_derivative(int marker, std::span<const double> q, const Vec3& force, const Vec3& torque,

@@ -23,7 +23,7 @@ struct Model::Workspace {
   std::vector<double> lambda_scratch;
   // Jacobian
   Eigen::MatrixXd dense;                         // n x n
-  Eigen::VectorXd f_scratch;                     // n
+  Eigen::VectorXd f_scratch, f_plus, y_scratch, yp_scratch;  // n
   SparsityPattern pattern;
   std::vector<Eigen::MatrixXd> element_jacobian;  // per force element
   std::vector<Eigen::MatrixXd> element_rows_p, element_rows_m;  // per force element: wrench + state rows
@@ -105,6 +105,9 @@ void Model::finalize() {
   }
   w.dense.resize(0, 0);
   w.f_scratch.resize(size_);
+  w.f_plus.resize(size_);
+  w.y_scratch.resize(size_);
+  w.yp_scratch.resize(size_);
   w.pattern = jacobian_pattern();
   w.kin_dw.clear();
   for (const auto& b : bodies) w.kin_dw.emplace_back(b->position_count(), b->velocity_count());
@@ -202,8 +205,12 @@ void Model::residual(double t, const double* y, const double* yp, double* f) con
     c.constraint->evaluate(t, mi, mj, eq);
     Eigen::Matrix<double, 6, 1> twist_i, twist_j, li = Eigen::Matrix<double, 6, 1>::Zero(),
                                                    lj = Eigen::Matrix<double, 6, 1>::Zero(), ui = li, uj = li;
-    twist_i << mi.velocity, mi.angular_velocity;
-    twist_j << mj.velocity, mj.angular_velocity;
+    // C w = D [Jv w; Jw w] (the form whose time derivative matches the position rows for any |p|)
+    Vec3 v, omega;
+    bodies[c.i.body]->marker_twist(c.i.marker, positions(c.i.body, y), velocities(c.i.body, y), v, omega);
+    twist_i << v, omega;
+    bodies[c.j.body]->marker_twist(c.j.marker, positions(c.j.body, y), velocities(c.j.body, y), v, omega);
+    twist_j << v, omega;
     for (int e = 0; e < c.constraint->size(); ++e) {
       const int row = c.first_row + e;
       const double lambda = y[lambda_offset_ + row], mu = y[mu_offset_ + row];
@@ -515,8 +522,13 @@ void Model::jacobian(double t, const double* y, const double* yp, double cj, std
     // The change of D with the markers' poses, by local central differences: d(D twist)/d(pose) (m x 12 per
     // marker) and d(D^T lambda)/d(pose) (6 x 12 per marker and per side).
     Eigen::Matrix<double, 6, 1> ti, tj;
-    ti << mi.velocity, mi.angular_velocity;
-    tj << mj.velocity, mj.angular_velocity;
+    {
+      Vec3 v, omega;
+      bodies[c.i.body]->marker_twist(c.i.marker, positions(c.i.body, y), velocities(c.i.body, y), v, omega);
+      ti << v, omega;
+      bodies[c.j.body]->marker_twist(c.j.marker, positions(c.j.body, y), velocities(c.j.body, y), v, omega);
+      tj << v, omega;
+    }
     Eigen::MatrixXd dvel = Eigen::MatrixXd::Zero(m, 24);
     Eigen::MatrixXd dreac_i = Eigen::MatrixXd::Zero(6, 24), dreac_j = Eigen::MatrixXd::Zero(6, 24);
     ConstraintEquations& pe = w.perturbed[ci];
@@ -600,6 +612,32 @@ void Model::jacobian(double t, const double* y, const double* yp, double cj, std
     a.segment<3>(3) = -z.cross(dw).transpose();
     add_motion(r, a, dj);
   }
+
+  // Euler parameters: the closed forms above are exact for changes of p tangent to |p| = 1 (rotations); a
+  // radial change scales A(p) (rotation.hpp), which no marker rotation expresses. That one direction per
+  // floating body is taken by a directional difference of the residual: J_p <- J_p (I - u u^T) + dF/du u^T,
+  // u = p / |p|.
+  for (std::size_t b = 0; b < bodies.size(); ++b) {
+    const Body& body = *bodies[b];
+    if (body.kind() != "rigid" && body.kind() != "flexible") continue;
+    const int o = body_offset_[b] + 3;
+    const Eigen::Vector4d u = Eigen::Map<const Eigen::Vector4d>(y + o).normalized();
+    const double h = 1e-7;
+    Eigen::VectorXd &yy = w.y_scratch, &yyp = w.yp_scratch;  // y and y' together: dF/dy + cj dF/dy'
+    yy = Eigen::Map<const Eigen::VectorXd>(y, size_);
+    yyp = Eigen::Map<const Eigen::VectorXd>(yp, size_);
+    yy.segment<4>(o) += h * u;
+    yyp.segment<4>(o) += cj * h * u;
+    Eigen::VectorXd& fp = w.f_plus;
+    residual(t, yy.data(), yyp.data(), fp.data());
+    yy.segment<4>(o) -= 2 * h * u;
+    yyp.segment<4>(o) -= 2 * cj * h * u;
+    residual(t, yy.data(), yyp.data(), w.f_scratch.data());
+    const Eigen::VectorXd radial = (fp - w.f_scratch) / (2 * h);
+    jm.middleCols<4>(o) = (jm.middleCols<4>(o) * (Eigen::Matrix4d::Identity() - u * u.transpose())).eval();
+    jm.middleCols<4>(o) += radial * u.transpose();
+  }
+  residual(t, y, yp, w.f_scratch.data());  // leave the workspace (and a bearing's cache) at this state
 
   // Energy integrals: their rates only (they feed nothing back).
   jm(energy_offset_, energy_offset_) += cj;

@@ -22,11 +22,11 @@ inline Mat3 skew(const Vec3& a) {
   return s;
 }
 
-/// Rotation matrix (body -> global) of Euler parameters p. p is normalized here, so A is a rotation for any
-/// p != 0 (the kinematic equation keeps |p| = 1 to round-off; this makes A and every marker a function of
-/// p / |p| alone, whose derivatives the analytic Jacobian uses: rotation_sensitivity).
-inline Mat3 rotation_matrix(const Vec4& p_raw) {
-  const Vec4 p = p_raw / p_raw.norm();
+/// Rotation matrix (body -> global) of Euler parameters p, used as given (the kinematic equation keeps
+/// |p| = 1 to round-off). Not normalized on purpose: with A(p / |p|) the position constraints no longer see
+/// |p|, and IDA's error test on a spinning body stalled at order 1 (a conical pendulum: 6010 steps against
+/// 99); the analytic Jacobian is exact in the directions tangent to |p| = 1 (rotation_sensitivity).
+inline Mat3 rotation_matrix(const Vec4& p) {
   const double e0 = p[0];
   const Vec3 e = p.tail<3>();
   return (2 * e0 * e0 - 1) * Mat3::Identity() + 2 * (e * e.transpose() + e0 * skew(e));
@@ -41,7 +41,8 @@ inline Mat34 l_matrix(const Vec4& p) {
 }
 
 /// d(theta)/dp: the small global rotation of A(p) per change of p (3 x 4): dA = (Theta dp)~ A with
-/// Theta = 2 A(p^) L(p^) / |p| = 2 G(p^) / |p| (omega = 2 G p' for unit p; Nikravesh 6.37), p^ = p / |p|.
+/// Theta = 2 A(p^) L(p^) / |p| = 2 G(p^) / |p| (omega = 2 G p' for unit p; Nikravesh 6.37), p^ = p / |p|;
+/// exact for changes of p tangent to |p| = 1 (the radial change scales A and is no rotation).
 inline Mat34 rotation_sensitivity(const Vec4& p_raw) {
   const double n = p_raw.norm();
   const Vec4 p = p_raw / n;

@@ -647,8 +647,8 @@ max_step = 1e-4
 sample_rate_hz = 100000
 )";
   const auto file = run_text(text, "contact_clearance");
-  const Eigen::VectorXd t = signal(file, "time"), gap = signal(file, "forces/stop/gap_m"),
-                        fn = signal(file, "forces/stop/normal_force_n");
+  const Eigen::VectorXd t = signal(file, "time"), gap = signal(file, "forces/stop/gap"),
+                        fn = signal(file, "forces/stop/normal_force");
   double t_contact = -1, egap = 0, fmax_before = 0;
   const double fmax_after = fn.maxCoeff();
   for (Eigen::Index k = 1; k < t.size(); ++k) {
@@ -812,7 +812,7 @@ atol = 1e-13
 sample_rate_hz = 1000
 )";
   const auto file = run_text(text, "nonlinear_static");
-  const Eigen::VectorXd dx = signal(file, "forces/spring/deflection_m"), z = signal(file, "markers/mass.c/position", 2);
+  const Eigen::VectorXd dx = signal(file, "forces/spring/deflection"), z = signal(file, "markers/mass.c/position", 2);
   const double x = -z[z.size() - 1] - l;
   std::printf("measured: non-linear spring, rest deflection %.10g m (Cardano %.10g m; linear would give %.6g m); "
               "channel deflection_m %.10g m\n", x, x_ref, m * kG / k0, dx[dx.size() - 1]);
