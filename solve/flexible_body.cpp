@@ -57,6 +57,33 @@ Mat3 angular_rate_matrix(const Vec3& theta) {
   return Mat3::Identity() + c1 * t + c2 * t * t;
 }
 
+/// D(theta, z) = d(T(theta) z)/dtheta (3 x 3), T = angular_rate_matrix. With a = |theta|,
+///   T z = z + c1 theta x z + c2 theta x (theta x z),   c1 = (1 - cos a)/a^2,  c2 = (a - sin a)/a^3,
+///   D = -c1 z~ + c2 ((theta.z) 1 + theta z^T - 2 z theta^T) + (g1 theta x z + g2 theta x (theta x z)) theta^T,
+/// g_i = (dc_i/da)/a (series below a = 0.05, where the closed forms lose digits to cancellation).
+/// d(T(theta)^T y)/dtheta = -D(-theta, y) (T(theta)^T = T(-theta): c1, c2 are even in a).
+Mat3 rate_derivative(const Vec3& theta, const Vec3& z) {
+  const double a = theta.norm(), a2 = a * a;
+  double c1, c2, g1, g2;
+  if (a < 1e-4) {  // as angular_rate_matrix
+    c1 = 0.5 - a2 / 24;
+    c2 = 1.0 / 6 - a2 / 120;
+  } else {
+    c1 = (1 - std::cos(a)) / a2;
+    c2 = (a - std::sin(a)) / (a2 * a);
+  }
+  if (a < 0.05) {
+    g1 = -1.0 / 12 + a2 / 180 - a2 * a2 / 6720;
+    g2 = -1.0 / 60 + a2 / 1260 - a2 * a2 / 60480;
+  } else {
+    g1 = (a * std::sin(a) - 2 * (1 - std::cos(a))) / (a2 * a2);
+    g2 = (a * (1 - std::cos(a)) - 3 * (a - std::sin(a))) / (a2 * a2 * a);
+  }
+  const Vec3 tz = theta.cross(z), ttz = theta.cross(tz);
+  return -c1 * skew(z) + c2 * (theta.dot(z) * Mat3::Identity() + theta * z.transpose() - 2 * z * theta.transpose()) +
+         (g1 * tz + g2 * ttz) * theta.transpose();
+}
+
 FlexibleData::Point read_point(const PointSet& set, std::size_t k) {
   FlexibleData::Point p;
   p.name = set.names[k];
@@ -149,6 +176,12 @@ FlexibleBody::FlexibleBody(std::string name, FlexibleData data, Coupling couplin
     add_marker(std::move(m));
   }
   builtin_markers_ = static_cast<int>(data_.points.size());
+  ws_s_eta_.resize(n_, 9);
+  ws_s_rate_.resize(n_, 9);
+  ws_s_acc_.resize(n_, 9);
+  ws_p_.resize(n_, 9);
+  ws_dpsi_.resize(n_, 9);
+  ws_3n_.resize(3, n_);
 }
 
 Eigen::VectorXd FlexibleBody::initial_positions() const {
@@ -334,6 +367,257 @@ void FlexibleBody::momentum(std::span<const double> q, std::span<const double> w
   const Eigen::VectorXd pm = mass_matrix(q) * tail(w, 0, 6 + n_);
   linear = pm.head<3>();
   angular = vec3(q, 0).cross(linear) + rotation_matrix(vec4(q, 3)) * pm.segment<3>(3);
+}
+
+// ---------------------------------------------------------------- derivatives (analytic Jacobian, body.hpp)
+// Notation as above; for a marker on point P: u0, Phi_t, Phi_r (3 x n), s = u0 + Phi_t eta, theta_P =
+// Phi_r eta, T = T(theta_P) (angular_rate_matrix), D(theta, z) = d(T(theta) z)/dtheta (rate_derivative).
+// Theta = d(theta)/dp (rotation_sensitivity): a vector x = A x0 fixed in the body changes by dx = -x~ Theta dp,
+// and d(A^T y)/dp = A^T y~ Theta for a fixed global y.
+
+// Q += Jv^T F + Jw^T T with Jv = [1, -A s~, A Phi_t], Jw = [0, A, A T Phi_r] (marker_jacobian):
+//   Q = [F;  s x (A^T F) + A^T T;  Phi_t^T A^T F + Phi_r^T T^T A^T T]   (Shabana 2005, eq. 5.127-5.130).
+void FlexibleBody::add_wrench(int marker, std::span<const double> q, const Vec3& force, const Vec3& torque,
+                              std::span<double> generalized) const {
+  const auto& pt = data_.points[point_of(marker)];
+  const Mat3 at = rotation_matrix(vec4(q, 3)).transpose();
+  const auto eta = tail(q, 7, n_);
+  const Vec3 s = pt.position + pt.translation * eta;
+  const Vec3 fb = at * force, tb = at * torque;
+  const Vec3 tr = angular_rate_matrix(pt.rotation * eta).transpose() * tb;
+  Eigen::Map<Eigen::VectorXd> g(generalized.data(), 6 + n_);
+  g.head<3>() += force;
+  g.segment<3>(3) += s.cross(fb) + tb;
+  g.tail(n_).noalias() += pt.translation.transpose() * fb;
+  g.tail(n_).noalias() += pt.rotation.transpose() * tr;
+}
+
+// The marker's motion (marker_motion): p_P = r + A s, axes A exp(theta_P~) axes0,
+// v_P = v + A b with b = omega x s + Phi_t eta', omega_P = A c with c = omega + T Phi_r eta'. By q = [r, p, eta]:
+//   dp_P     = [1,  -(A s)~ Theta,  A Phi_t]
+//   dtheta_m = [0,   Theta,         A T Phi_r]          (d exp(theta~) = (T dtheta)~ exp(theta~))
+//   dv_P     = [0,  -(A b)~ Theta,  A omega~ Phi_t]
+//   domega_P = [0,  -(A c)~ Theta,  A D(theta_P, Phi_r eta') Phi_r]
+void FlexibleBody::marker_sensitivity(int marker, std::span<const double> q, std::span<const double> w,
+                                      Eigen::Ref<Eigen::MatrixXd> out) const {
+  const auto& pt = data_.points[point_of(marker)];
+  const Vec4 p = vec4(q, 3);
+  const Mat3 a = rotation_matrix(p);
+  const Mat34 theta = rotation_sensitivity(p);
+  const auto eta = tail(q, 7, n_);
+  const auto rate = tail(w, 6, n_);
+  const Vec3 omega = vec3(w, 3);
+  const Vec3 s = pt.position + pt.translation * eta;
+  const Vec3 th = pt.rotation * eta, z = pt.rotation * rate;
+  const Mat3 t = angular_rate_matrix(th);
+  const Vec3 b = omega.cross(s) + pt.translation * rate;
+  const Vec3 c = omega + t * z;
+  out.setZero();
+  out.block<3, 3>(0, 0) = Mat3::Identity();
+  out.block<3, 4>(0, 3) = -skew(a * s) * theta;
+  out.block(0, 7, 3, n_).noalias() = a * pt.translation;
+  out.block<3, 4>(3, 3) = theta;
+  const Mat3 at_ = a * t;
+  out.block(3, 7, 3, n_).noalias() = at_ * pt.rotation;
+  out.block<3, 4>(6, 3) = -skew(a * b) * theta;
+  const Mat3 aom = a * skew(omega);
+  out.block(6, 7, 3, n_).noalias() = aom * pt.translation;
+  out.block<3, 4>(9, 3) = -skew(a * c) * theta;
+  const Mat3 ad = a * rate_derivative(th, z);
+  out.block(9, 7, 3, n_).noalias() = ad * pt.rotation;
+}
+
+// d/dq of Q above at fixed F, T (fb = A^T F, tb = A^T T):
+//   rows omega: d/dp = s~ A^T F~ Theta + A^T T~ Theta,   d/deta = -fb~ Phi_t
+//   rows eta:   d/dp = Phi_t^T A^T F~ Theta + Phi_r^T T^T A^T T~ Theta,
+//               d/deta = Phi_r^T (-D(-theta_P, tb)) Phi_r          (d(T^T tb)/dtheta, rate_derivative)
+void FlexibleBody::add_wrench_derivative(int marker, std::span<const double> q, const Vec3& force,
+                                         const Vec3& torque, Eigen::Ref<Eigen::MatrixXd> out) const {
+  const auto& pt = data_.points[point_of(marker)];
+  const Vec4 p = vec4(q, 3);
+  const Mat3 at = rotation_matrix(p).transpose();
+  const Mat34 theta = rotation_sensitivity(p);
+  const auto eta = tail(q, 7, n_);
+  const Vec3 s = pt.position + pt.translation * eta;
+  const Vec3 th = pt.rotation * eta;
+  const Mat3 t = angular_rate_matrix(th);
+  const Vec3 fb = at * force, tb = at * torque;
+  const Mat34 fp = at * skew(force) * theta, tp = at * skew(torque) * theta;
+  out.block<3, 4>(3, 3) += skew(s) * fp + tp;
+  const Mat3 fbx = skew(fb);
+  out.block(3, 7, 3, n_).noalias() -= fbx * pt.translation;
+  const Mat34 ttp = t.transpose() * tp;
+  out.block(6, 3, n_, 4).noalias() += pt.translation.transpose() * fp;
+  out.block(6, 3, n_, 4).noalias() += pt.rotation.transpose() * ttp;
+  const Mat3 e = -rate_derivative(-th, tb);
+  ws_3n_.noalias() = e * pt.rotation;
+  out.block(6, 7, n_, n_).noalias() += pt.rotation.transpose() * ws_3n_;
+}
+
+// Rows r' - v, p' - 1/2 L(p)^T omega + beta (p.p - 1) p, eta' - eta_rate (as RigidBody::kinematic_jacobian).
+void FlexibleBody::kinematic_jacobian(std::span<const double> q, std::span<const double> w_eff,
+                                      Eigen::Ref<Eigen::MatrixXd> d_q, Eigen::Ref<Eigen::MatrixXd> d_w) const {
+  const Vec4 p = vec4(q, 3);
+  d_q.setZero();
+  d_w.setZero();
+  d_q.block<4, 4>(3, 3) = -0.5 * rate_matrix(vec3(w_eff, 3)) +
+                          kNormalizationRate * ((p.squaredNorm() - 1.0) * Eigen::Matrix4d::Identity() +
+                                                2.0 * p * p.transpose());
+  d_w.block<3, 3>(0, 0) = -Mat3::Identity();
+  d_w.block<4, 3>(3, 3) = -0.5 * l_matrix(p).transpose();
+  d_w.block(7, 6, n_, n_).diagonal().setConstant(-1.0);
+}
+
+// The inertial rows R = M(eta) w' + h(eta, w) - Q_g + [0; 0; K eta + D eta'] (top of this file), with
+// w' = [a_r, a_w, eta''], mc = m c + S_bar eta, y = a_r - g and, written out by blocks,
+//   R_r   = m (a_r - g) + A (a_w x mc + S_bar eta'' + omega x (omega x mc) + 2 omega x S_bar eta')
+//   R_om  = mc x (A^T y) + J a_w + (int rho s~ S) eta'' + omega x J omega + 2 (tr(G) omega - G omega)
+//   R_eta = S_bar^T A^T y + (int rho s~ S)^T a_w + M_r eta'' + h_eta + K eta + D eta'
+// (Shabana 2005, eq. 5.115-5.125). The eta-dependence enters through mc, Psi and P:
+//   dPsi_kl/deta = I_tilde_kl + I_tilde_lk + (S_kl + S_lk) eta,   dP_ab/deta = S_ab^T = S_ba,
+//   d(P_ab . x)/deta = (S_ab x)^T,   (int rho s~ S)^T a_w = sum_ab (a_w~)_ba P_ab,
+// the terms in S_kl only with full coupling. Derivatives:
+//   dR_r/dp    = -(A x_r)~ Theta  (x_r = the bracket),      dR_r/deta = A (a_w~ + omega~^2) S_bar
+//   dR_om/dp   = mc~ A^T y~ Theta,   dR_om/deta = -(A^T y)~ S_bar + dJ(a_w) + omega~ dJ(omega)
+//                + d((int rho s~ S) eta'')/deta + 2 d(tr(G) omega - G omega)/deta,
+//                dJ(u)_i = u_i sum_k dPsi_kk - sum_l u_l dPsi_il,  dG_ab/deta = (S_ba eta')^T
+//   dR_eta/dp  = S_bar^T A^T y~ Theta,   dR_eta/deta = K + sum_ab (omega~^2 + a_w~)_ab S_ab
+//   dR_r/domega  = A ((omega.mc) 1 + omega mc^T - 2 mc omega^T - 2 (S_bar eta')~),  dR_r/deta' = 2 A omega~ S_bar
+//   dR_om/domega = omega~ J - (J omega)~ + 2 (tr(G) 1 - G),   dR_om/deta'_i-row = 2 (omega_i sum_k P_kk - sum_b
+//                  omega_b P_bi)^T
+//   dR_eta/domega_c = sum_b omega_b P_bc + sum_a omega_a P_ca - 2 omega_c sum_a P_aa + 2 (S_kj - S_jk) eta'
+//                  ((c, j, k) cyclic; the last term with full coupling),
+//   dR_eta/deta' = D + 2 sum_ab omega~_ab S_ab (full coupling).
+void FlexibleBody::inertia_jacobian(std::span<const double> q, std::span<const double> w,
+                                    std::span<const double> wdot, const Vec3& gravity,
+                                    Eigen::Ref<Eigen::MatrixXd> d_q, Eigen::Ref<Eigen::MatrixXd> d_w) const {
+  const Vec4 p = vec4(q, 3);
+  const Mat3 a = rotation_matrix(p);
+  const Mat34 theta = rotation_sensitivity(p);
+  const auto eta = tail(q, 7, n_);
+  const auto rate = tail(w, 6, n_);
+  const auto acc = tail(wdot, 6, n_);
+  const Vec3 omega = vec3(w, 3), a_r = vec3(wdot, 0), a_w = vec3(wdot, 3);
+  const bool full = coupling_ == Coupling::kFull;
+  const auto& sb = data_.translational;
+  const Vec3 mc = data_.first_moment + sb * eta;
+  const Vec3 ub = sb * rate, ua = sb * acc;
+  const Mat3 om = skew(omega), om2 = om * om;
+
+  // P_ab(eta), S_ab eta', S_ab eta'', dPsi_kl/deta, Psi.
+  for (int c = 0; c < 9; ++c) ws_p_.col(c) = data_.position[c];
+  if (full)
+    for (int c = 0; c < 9; ++c) {
+      ws_s_eta_.col(c).noalias() = data_.quadratic[c] * eta;
+      ws_s_rate_.col(c).noalias() = data_.quadratic[c] * rate;
+      ws_s_acc_.col(c).noalias() = data_.quadratic[c] * acc;
+    }
+  Mat3 psi = data_.second_moment;
+  for (int k = 0; k < 3; ++k)
+    for (int l = 0; l < 3; ++l) {
+      const int kl = 3 * k + l, lk = 3 * l + k;
+      psi(k, l) += data_.position[kl].dot(eta) + data_.position[lk].dot(eta);
+      ws_dpsi_.col(kl) = data_.position[kl] + data_.position[lk];
+      if (full) {
+        psi(k, l) += eta.dot(ws_s_eta_.col(kl));
+        ws_dpsi_.col(kl) += ws_s_eta_.col(kl) + ws_s_eta_.col(lk);
+        ws_p_.col(kl) += ws_s_eta_.col(lk);  // S_kl^T eta = S_lk eta
+      }
+    }
+  const Mat3 j = psi.trace() * Mat3::Identity() - psi;
+  Mat3 g;  // G_ab = P_ba . eta'
+  for (int i = 0; i < 3; ++i)
+    for (int k = 0; k < 3; ++k) g(i, k) = ws_p_.col(3 * k + i).dot(rate);
+
+  d_q.setZero();
+  d_w.setZero();
+  const Vec3 y = a_r - gravity, yb = a.transpose() * y;
+  const Mat34 yp = a.transpose() * skew(y) * theta;  // d(A^T y)/dp
+
+  // rows r
+  const Vec3 xr = a_w.cross(mc) + ua + om2 * mc + 2 * omega.cross(ub);
+  d_q.block<3, 4>(0, 3) = -skew(a * xr) * theta;
+  const Mat3 a_aw = a * (skew(a_w) + om2);
+  d_q.block(0, 7, 3, n_).noalias() = a_aw * sb;
+  d_w.block<3, 3>(0, 3) = a * (omega.dot(mc) * Mat3::Identity() + omega * mc.transpose() -
+                               2 * mc * omega.transpose() - 2 * skew(ub));
+  const Mat3 a_om2 = 2 * a * om;
+  d_w.block(0, 6, 3, n_).noalias() = a_om2 * sb;
+
+  // rows omega
+  d_q.block<3, 4>(3, 3) = skew(mc) * yp;
+  {
+    // dJ(a_w) + omega~ dJ(omega) = wj dPsi^T (3 x 9 coefficients of the columns dPsi_kl)
+    Eigen::Matrix<double, 3, 9> wj = Eigen::Matrix<double, 3, 9>::Zero();
+    const Vec3 omo = om * omega;  // zero, kept for the form
+    for (int i = 0; i < 3; ++i)
+      for (int k = 0; k < 3; ++k) {
+        wj(i, 4 * k) += a_w[i] + omo[i];
+        wj(i, 3 * i + k) -= a_w[k];
+        for (int l = 0; l < 3; ++l) wj(i, 3 * k + l) -= om(i, k) * omega[l];
+      }
+    const Mat3 ybx = -skew(yb);
+    ws_3n_.noalias() = ybx * sb;
+    ws_3n_.noalias() += wj * ws_dpsi_.transpose();
+    if (full) {
+      // d((int rho s~ S) eta'')/deta: row i = (S_jk - S_kj) eta'' ((i, j, k) cyclic);
+      // 2 d(tr(G) omega - G omega)/deta: row i = 2 (omega_i sum_k S_kk eta' - sum_b omega_b S_bi eta')
+      Eigen::Matrix<double, 3, 9> wa = Eigen::Matrix<double, 3, 9>::Zero(), wr = wa;
+      for (int i = 0; i < 3; ++i) {
+        const int jj = (i + 1) % 3, kk = (i + 2) % 3;
+        wa(i, 3 * jj + kk) += 1;
+        wa(i, 3 * kk + jj) -= 1;
+        for (int k = 0; k < 3; ++k) {
+          wr(i, 4 * k) += 2 * omega[i];
+          wr(i, 3 * k + i) -= 2 * omega[k];
+        }
+      }
+      ws_3n_.noalias() += wa * ws_s_acc_.transpose();
+      ws_3n_.noalias() += wr * ws_s_rate_.transpose();
+    }
+    d_q.block(3, 7, 3, n_) = ws_3n_;
+    // d/deta': row i = 2 (omega_i sum_k P_kk - sum_b omega_b P_bi)^T
+    Eigen::Matrix<double, 3, 9> wp = Eigen::Matrix<double, 3, 9>::Zero();
+    for (int i = 0; i < 3; ++i)
+      for (int k = 0; k < 3; ++k) {
+        wp(i, 4 * k) += 2 * omega[i];
+        wp(i, 3 * k + i) -= 2 * omega[k];
+      }
+    d_w.block(3, 6, 3, n_).noalias() = wp * ws_p_.transpose();
+  }
+  d_w.block<3, 3>(3, 3) = om * j - skew(j * omega) + 2 * (g.trace() * Mat3::Identity() - g);
+
+  // rows eta
+  d_q.block(6, 3, n_, 4).noalias() = sb.transpose() * yp;
+  d_q.block(6, 7, n_, n_) = data_.stiffness;
+  d_w.block(6, 6, n_, n_) = data_.damping;
+  if (full) {
+    const Mat3 ce = om2 + skew(a_w);
+    for (int c = 0; c < 9; ++c) {
+      d_q.block(6, 7, n_, n_) += ce(c / 3, c % 3) * data_.quadratic[c];
+      if (om(c / 3, c % 3) != 0.0) d_w.block(6, 6, n_, n_) += 2 * om(c / 3, c % 3) * data_.quadratic[c];
+    }
+  }
+  {
+    // d/domega, column c: sum_b omega_b P_bc + sum_a omega_a P_ca - 2 omega_c sum_a P_aa (+ full: 2 (S_kj - S_jk) eta')
+    Eigen::Matrix<double, 9, 3> xw = Eigen::Matrix<double, 9, 3>::Zero();
+    for (int c = 0; c < 3; ++c)
+      for (int b = 0; b < 3; ++b) {
+        xw(3 * b + c, c) += omega[b];
+        xw(3 * c + b, c) += omega[b];
+        xw(4 * b, c) -= 2 * omega[c];
+      }
+    d_w.block(6, 3, n_, 3).noalias() = ws_p_ * xw;
+    if (full) {
+      Eigen::Matrix<double, 9, 3> xs = Eigen::Matrix<double, 9, 3>::Zero();
+      for (int c = 0; c < 3; ++c) {
+        const int jj = (c + 1) % 3, kk = (c + 2) % 3;
+        xs(3 * kk + jj, c) += 2;
+        xs(3 * jj + kk, c) -= 2;
+      }
+      d_w.block(6, 3, n_, 3).noalias() += ws_s_rate_ * xs;
+    }
+  }
 }
 
 // ---------------------------------------------------------------- the scene's [[body]] table

@@ -81,6 +81,20 @@ class FlexibleBody final : public Body {
   double potential_energy(std::span<const double> q, const Vec3& gravity) const override;
   double dissipated_power(std::span<const double> q, std::span<const double> w) const override;
 
+  // Closed-form derivatives for the model's analytic Jacobian (body.hpp; equations in flexible_body.cpp).
+  // No heap allocation: fixed-size Eigen types and the workspace below.
+  void add_wrench(int marker, std::span<const double> q, const Vec3& force, const Vec3& torque,
+                  std::span<double> generalized) const override;
+  void marker_sensitivity(int marker, std::span<const double> q, std::span<const double> w,
+                          Eigen::Ref<Eigen::MatrixXd> out) const override;
+  void add_wrench_derivative(int marker, std::span<const double> q, const Vec3& force, const Vec3& torque,
+                             Eigen::Ref<Eigen::MatrixXd> out) const override;
+  void kinematic_jacobian(std::span<const double> q, std::span<const double> w_eff, Eigen::Ref<Eigen::MatrixXd> d_q,
+                          Eigen::Ref<Eigen::MatrixXd> d_w) const override;
+  void inertia_jacobian(std::span<const double> q, std::span<const double> w, std::span<const double> wdot,
+                        const Vec3& gravity, Eigen::Ref<Eigen::MatrixXd> d_q,
+                        Eigen::Ref<Eigen::MatrixXd> d_w) const override;
+
   const FlexibleData& data() const { return data_; }
   Coupling coupling() const { return coupling_; }
   int modes() const { return n_; }
@@ -111,6 +125,13 @@ class FlexibleBody final : public Body {
   int n_;
   int builtin_markers_;
   std::vector<int> user_points_;
+  // Workspace of the derivatives (sized in the constructor; the body is not thread-safe, as the model).
+  mutable Eigen::MatrixXd ws_s_eta_;       // n x 9: column 3a+b = S_ab eta
+  mutable Eigen::MatrixXd ws_s_rate_;      // n x 9: column 3a+b = S_ab eta'
+  mutable Eigen::MatrixXd ws_s_acc_;       // n x 9: column 3a+b = S_ab eta''
+  mutable Eigen::MatrixXd ws_p_;           // n x 9: column 3a+b = P_ab(eta) = I_tilde_ab + S_ba eta
+  mutable Eigen::MatrixXd ws_dpsi_;        // n x 9: column 3k+l = dPsi_kl/deta
+  mutable Eigen::Matrix<double, 3, Eigen::Dynamic> ws_3n_;  // 3 x n
 };
 
 /// Build a flexible body from a scene's [[body]] table with type = "flexible" (keys read from `t`; the
