@@ -13,7 +13,8 @@ void jacobian_at_i(const ElementInput& in, ElementJacobian& jac, const Eigen::Re
   // Marker j: -F and -T - d x F with d = p_i - p_j; d(d x F) = d~ dF - F~ (dp_i - dp_j).
   const Vec3 d = in.markers[0].position - in.markers[1].position;
   m.block(6, 0, 3, cols) -= d_force;
-  m.block(9, 0, 3, cols) -= d_torque + skew(d) * d_force;
+  m.block(9, 0, 3, cols) -= d_torque;
+  m.block(9, 0, 3, cols).noalias() -= skew(d) * d_force;  // into place: no temporary on the heap
   const Mat3 f = skew(force);
   m.block<3, 3>(9, 0) += f;    // dp_i
   m.block<3, 3>(9, 12) -= f;   // dp_j

@@ -58,6 +58,8 @@ double Table1D::slope(double x) const {
   if (period_ <= 0 && (x < x_.front() || x > x_.back())) return 0.0;
   double xx = x;
   const std::size_t k = piece(xx);
+  if (period_ > 0 && xx > x_.back())  // the periodic wrap from the last point to the first, as operator()
+    return (y_.front() - y_.back()) / (x_.front() + period_ - x_.back());
   return (y_[k + 1] - y_[k]) / (x_[k + 1] - x_[k]);
 }
 

@@ -69,6 +69,71 @@ class Contact final : public ForceElement {
     apply_at_i(in, out, force(s), Vec3::Zero(), in.markers[0].position);
   }
 
+  // Columns: marker i at 0 (dp 0, dtheta 3, dv 6, domega 9), marker j at 12 (15, 18, 21). With d = p_i - p_j,
+  // n = z_j (dn = -n~ dtheta_j), vr = v_i - v_j - omega_j x d:
+  //   dd  = dp_i - dp_j;   dvr = dv_i - dv_j + d~ domega_j - omega_j~ (dp_i - dp_j)
+  //   delta = -(clearance + n.d):  d delta = -n^T dd + d^T n~ dtheta_j
+  //   vn = n.vr:                   d vn = n^T dvr - vr^T n~ dtheta_j,  delta' = -vn
+  //   vt = vr - vn n:              d vt = dvr - n d vn - vn dn
+  // Normal: fn = k delta^e (1 + alpha delta'); out of contact or in the clamp (fn <= 0) no force, no Jacobian.
+  // Friction: ft = -fn g(s) vt with s = |vt|, g = mu(s)/s = m(s) th(x)/eps, x = s/eps, th(x) = tanh(x)/x,
+  //   m(s) = mu_d + (mu_s - mu_d) exp(-(s/v_s)^2): g is smooth in vt (even in s), also at vt = 0, and
+  //   d ft = -g vt d fn - fn (g d vt + g'(s) vt (vt/s)^T d vt) with g'(s) s finite as s -> 0.
+  // F = fn n + ft on i at its origin (dF = n dfn + fn dn + dft); the reaction on j by jacobian_at_i.
+  bool jacobian(const ElementInput& in, ElementJacobian& jac) const override {
+    using Rows3 = Eigen::Matrix<double, 3, 24>;
+    using Row = Eigen::Matrix<double, 1, 24>;
+    const State s = state(in, p_.clearance);
+    if (s.delta <= 0) return true;  // open: no force
+    const double fn = normal_force(s);
+    if (fn <= 0) return true;       // the clamp: no force around here
+    const MarkerMotion &i = in.markers[0], &j = in.markers[1];
+    const Vec3 d = i.position - j.position;
+    const Vec3 vr = i.velocity - j.velocity - j.angular_velocity.cross(d);
+    const double vn = -s.delta_rate;
+    const Mat3 nx = skew(s.n), wx = skew(j.angular_velocity), eye = Mat3::Identity();
+    Rows3 dd = Rows3::Zero(), dvr = Rows3::Zero(), dn = Rows3::Zero();
+    dd.block<3, 3>(0, 0) = eye;
+    dd.block<3, 3>(0, 12) = -eye;
+    dvr.block<3, 3>(0, 6) = eye;
+    dvr.block<3, 3>(0, 18) = -eye;
+    dvr.block<3, 3>(0, 21) = skew(d);
+    dvr.block<3, 3>(0, 0) = -wx;
+    dvr.block<3, 3>(0, 12) = wx;
+    dn.block<3, 3>(0, 15) = -nx;
+    const Row ddelta = -s.n.transpose() * dd - d.transpose() * dn;
+    const Row dvn = s.n.transpose() * dvr + vr.transpose() * dn;
+    // d fn = k e delta^(e-1) (1 + alpha delta') d delta + k delta^e alpha d delta'
+    const double a = alpha(), pe = std::pow(s.delta, p_.exponent);
+    const Row dfn = p_.stiffness * (p_.exponent * pe / s.delta * (1.0 + a * s.delta_rate) * ddelta - pe * a * dvn);
+    Rows3 df = s.n * dfn + fn * dn;
+    if (p_.mu_static > 0 || p_.mu_dynamic > 0) {
+      const double sn = s.vt.norm(), eps = p_.regularization_speed;
+      const double x = sn / eps, y = sn / p_.stribeck_speed, ex = std::exp(-y * y);
+      const double m = p_.mu_dynamic + (p_.mu_static - p_.mu_dynamic) * ex;
+      const double dm = (p_.mu_static - p_.mu_dynamic) * ex * (-2.0 * y / p_.stribeck_speed);  // dm/ds
+      double th, dth;  // tanh(x)/x and its derivative, by series near 0
+      if (x < 1e-3) {
+        th = 1.0 - x * x / 3.0 + 2.0 * x * x * x * x / 15.0;
+        dth = -2.0 * x / 3.0 + 8.0 * x * x * x / 15.0;
+      } else {
+        const double t = std::tanh(x);
+        th = t / x;
+        dth = ((1.0 - t * t) * x - t) / (x * x);
+      }
+      const double g = m * th / eps;
+      const double gs = dm * th / eps * sn + m * dth / (eps * eps) * sn;  // g'(s) s
+      const Rows3 dvt = dvr - s.n * dvn - vn * dn;
+      Mat3 dft_dvt = -fn * g * eye;
+      if (sn > 0) dft_dvt -= fn * gs / (sn * sn) * s.vt * s.vt.transpose();
+      df += -g * s.vt * dfn + dft_dvt * dvt;
+    }
+    ElementRows dforce = zero_rows(jac);
+    dforce.leftCols<24>() = df;
+    jacobian_at_i(in, jac, dforce, zero_rows(jac), force(s));
+    return true;
+  }
+
   std::vector<Channel> channels() const override {
     return {{"gap", "m"}, {"normal_force", "N"}, {"slip_speed", "m/s"}};
   }

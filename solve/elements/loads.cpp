@@ -34,6 +34,18 @@ class Load : public ForceElement {
     const Vec3 v = magnitude(in) * direction(in);
     (d_.torque ? out.wrenches[0].torque : out.wrenches[0].force) = v;
   }
+  /// d(magnitude)/d(crank angle) (1/rad; 0 for loads against time).
+  virtual double magnitude_by_crank(const ElementInput&) const { return 0.0; }
+  // V = m e on the marker's force (rows 0-2) or torque (rows 3-5); no reaction (one marker).
+  //   e along the marker's axes: e = A e0, dA = dtheta~ A, so de = -e~ dtheta (columns 3-5);
+  //   m of time: no column (time is not a state); m of the crank angle: dV = m'(crank) e (the last column).
+  bool jacobian(const ElementInput& in, ElementJacobian& jac) const override {
+    const Vec3 e = direction(in);
+    const int row = d_.torque ? 3 : 0;
+    if (d_.marker_axes) jac.matrix.block<3, 3>(row, 3) -= magnitude(in) * skew(e);
+    jac.matrix.block<3, 1>(row, jac.crank_column()) += magnitude_by_crank(in) * e;
+    return true;
+  }
   std::vector<Channel> channels() const override { return {{"magnitude", d_.torque ? "N m" : "N"}}; }
   void channel_values(const ElementInput& in, std::span<double> out) const override { out[0] = magnitude(in); }
 
@@ -50,6 +62,12 @@ class TableLoad final : public Load {
   double magnitude(const ElementInput& in) const override {
     const double x = crank_ ? in.crank_angle * 180.0 / kPi - offset_deg_ : in.time;
     return scale_ * table_(x);
+  }
+  // x = crank 180/pi - offset_deg: dm/dcrank = scale table'(x) 180/pi (the piece's slope, also across the
+  // periodic wrap from the last point to the first).
+  double magnitude_by_crank(const ElementInput& in) const override {
+    if (!crank_) return 0.0;
+    return scale_ * table_.slope(in.crank_angle * 180.0 / kPi - offset_deg_) * 180.0 / kPi;
   }
 
  private:

@@ -1,0 +1,385 @@
+// Each element's own analytic Jacobian (ForceElement::jacobian, force_element.hpp) against central differences
+// of its own evaluate(), element by element, built through the registry (issue 12, item 3).
+//
+// Oracle: column c of [wrench rows; state rows] by central differences with the model's perturbations (dp, a
+// small global rotation dA = dtheta~ A of the marker axes, dv, domega per marker; z with z' += cj dz; the crank
+// angle), step h = 1e-6 (scaled by the magnitude of the perturbed value). Tolerance: for every entry
+// |J - J_fd| <= 1e-6 * (largest |J_fd| of that row), at several random marker motions per case; a row that
+// vanishes to round-off is measured against 1e-5 of the largest entry of the matrix instead (its differences
+// are noise).
+// test_jacobian.cpp checks the same elements through the whole model.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <map>
+#include <random>
+#include <set>
+#include <sstream>
+
+#include <Eigen/Geometry>
+
+#include "common/input.hpp"
+#include "solve/element_registry.hpp"
+
+namespace nvh::solve {
+namespace {
+
+constexpr double kTolerance = 1e-6;
+
+/// An element built by the registry from the TOML keys of its table, with its markers' initial motion.
+struct Built {
+  input::Document doc;
+  std::unique_ptr<ForceElement> element;
+};
+
+Built build(const std::string& section, const std::string& type, const std::string& keys,
+            const std::vector<MarkerMotion>& initial) {
+  const ElementType* et = builtin_elements().find(section, type);
+  EXPECT_NE(et, nullptr) << section << " " << type << " is not registered";
+  if (!et) return {input::Document::parse("", "empty.toml"), nullptr};
+  Built b{input::Document::parse(keys, type + ".toml"), nullptr};
+  const input::Table t = b.doc.root();
+  std::vector<std::filesystem::path> files;
+  ElementContext c{t, std::filesystem::path(NVH_SOURCE_DIR) / "testdata/scenes", files, initial};
+  b.element = et->make(c);
+  return b;
+}
+
+MarkerMotion random_motion(std::mt19937& rng, double spread = 0.1) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  MarkerMotion m;
+  m.position = spread * Vec3(u(rng), u(rng), u(rng));
+  m.axes = Eigen::AngleAxisd(3.0 * u(rng), Vec3(u(rng), u(rng), u(rng)).normalized()).toRotationMatrix();
+  m.velocity = Vec3(u(rng), u(rng), u(rng));
+  m.angular_velocity = 3.0 * Vec3(u(rng), u(rng), u(rng));
+  return m;
+}
+
+/// The model's perturbation of a marker (model.cpp: perturb): column 0-2 dp, 3-5 dtheta, 6-8 dv, 9-11 domega.
+void perturb(MarkerMotion& m, int column, double h) {
+  const int axis = column % 3;
+  switch (column / 3) {
+    case 0: m.position[axis] += h; break;
+    case 1: m.axes = Eigen::AngleAxisd(h, Vec3::Unit(axis)).toRotationMatrix() * m.axes; break;
+    case 2: m.velocity[axis] += h; break;
+    default: m.angular_velocity[axis] += h; break;
+  }
+}
+
+struct Point {
+  std::vector<MarkerMotion> markers;
+  std::vector<double> z, zp;
+  double time = 0.37, crank = 0.0;
+};
+
+Eigen::VectorXd rows_of(const ForceElement& e, const Point& p) {
+  const int nm = static_cast<int>(p.markers.size()), ns = static_cast<int>(p.z.size());
+  std::vector<Wrench> w(nm);
+  std::vector<double> r(ns);
+  const ElementInput in{p.time, p.crank, p.markers, p.z, p.zp};
+  ElementOutput out{w, r};
+  e.evaluate(in, out);
+  Eigen::VectorXd v(6 * nm + ns);
+  for (int k = 0; k < nm; ++k) v.segment<3>(6 * k) = w[k].force, v.segment<3>(6 * k + 3) = w[k].torque;
+  for (int s = 0; s < ns; ++s) v[6 * nm + s] = r[s];
+  return v;
+}
+
+struct Result {
+  bool analytic = false;
+  double worst = 0;  // largest |J - J_fd| / (largest |J_fd| of the row)
+  std::string where;
+  double largest = 0;  // largest |J| (a case with all zeros says so)
+};
+
+Result check(const ForceElement& e, const Point& p, double cj = 321.0) {
+  const int nm = static_cast<int>(p.markers.size()), ns = static_cast<int>(p.z.size());
+  const int rows = 6 * nm + ns, cols = 12 * nm + ns + 1;
+  Eigen::MatrixXd ja = Eigen::MatrixXd::Zero(rows, cols);
+  const ElementInput in{p.time, p.crank, p.markers, p.z, p.zp};
+  ElementJacobian jac{cj, ja};
+  Result res;
+  res.analytic = e.jacobian(in, jac);
+  res.largest = ja.cwiseAbs().maxCoeff();
+  Eigen::MatrixXd jf(rows, cols);
+  for (int c = 0; c < cols; ++c) {
+    Point plus = p, minus = p;
+    double h = 1e-6;
+    if (c < 12 * nm) {
+      const int k = c / 12, col = c % 12;
+      const MarkerMotion& m = p.markers[k];
+      const double value = col < 3 ? m.position[col % 3] : col < 6 ? 0.0 : col < 9 ? m.velocity[col % 3]
+                                                                                  : m.angular_velocity[col % 3];
+      h *= std::max(1.0, std::abs(value));
+      perturb(plus.markers[k], col, h);
+      perturb(minus.markers[k], col, -h);
+    } else if (c < 12 * nm + ns) {
+      const int s = c - 12 * nm;
+      h *= std::max(1.0, std::abs(p.z[s]));
+      plus.z[s] += h, plus.zp[s] += cj * h;
+      minus.z[s] -= h, minus.zp[s] -= cj * h;
+    } else {
+      h *= std::max(1.0, std::abs(p.crank));
+      plus.crank += h, minus.crank -= h;
+    }
+    jf.col(c) = (rows_of(e, plus) - rows_of(e, minus)) / (2 * h);
+  }
+  static const char* kColumn[] = {"dp", "dtheta", "dv", "domega"};
+  const double overall = jf.cwiseAbs().maxCoeff();
+  for (int r = 0; r < rows; ++r) {
+    // a row that vanishes to round-off (the reaction torque of a force along the line of the markers) is
+    // measured against 1e-5 of the largest entry of the whole matrix: the differences' own noise is ~1e-12 of it
+    const double scale = std::max(jf.row(r).cwiseAbs().maxCoeff(), 1e-5 * overall);
+    for (int c = 0; c < cols; ++c) {
+      const double diff = std::abs(ja(r, c) - jf(r, c));
+      const double err = diff == 0 ? 0.0 : diff / std::max(scale, 1e-300);
+      if (err > res.worst) {
+        std::ostringstream s;
+        s << "row " << r << ", column " << c;
+        if (c < 12 * nm) s << " (marker " << c / 12 << " " << kColumn[(c % 12) / 3] << "_" << "xyz"[c % 3] << ")";
+        s << ": analytic " << ja(r, c) << ", differences " << jf(r, c) << ", row scale " << scale;
+        res.worst = err;
+        res.where = s.str();
+      }
+    }
+  }
+  return res;
+}
+
+/// Worst relative error per element type over the whole test binary (printed at the end).
+std::map<std::string, double>& worst_per_type() {
+  static std::map<std::string, double> w;
+  return w;
+}
+
+void expect_matches(const ForceElement& e, const Point& p, const std::string& what, bool expect_nonzero = true) {
+  const Result r = check(e, p);
+  EXPECT_TRUE(r.analytic) << what << ": jacobian() returned false";
+  EXPECT_LE(r.worst, kTolerance) << what << ": worst at " << r.where;
+  if (expect_nonzero) {
+    EXPECT_GT(r.largest, 0.0) << what << ": the Jacobian is all zeros";
+  } else {
+    EXPECT_EQ(r.largest, 0.0) << what << ": expected no force and a zero Jacobian";
+  }
+  double& w = worst_per_type()[e.type()];
+  w = std::max(w, r.worst);
+}
+
+Point two_random(std::mt19937& rng, double spread = 0.1) { return {{random_motion(rng, spread), random_motion(rng, spread)}, {}, {}}; }
+
+// ---------------------------------------------------------------------------------------------------------------
+
+TEST(ElementJacobians, Bushing) {
+  std::mt19937 rng(11);
+  std::ostringstream k, d;  // full 6 x 6 matrices: the off-diagonal couplings enter every column
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  k << "stiffness = [";
+  d << "damping = [";
+  for (int r = 0; r < 6; ++r)
+    for (int c = 0; c < 6; ++c) {
+      const double sk = (r < 3 ? 1e5 : 1e3) * (r == c ? 3.0 : 0.3 * u(rng));
+      const double sd = (r < 3 ? 30.0 : 0.3) * (r == c ? 3.0 : 0.3 * u(rng));
+      k << (r + c ? ", " : "") << sk;
+      d << (r + c ? ", " : "") << sd;
+    }
+  k << "]\n";
+  d << "]\n";
+  const Built b = build("force", "bushing", k.str() + d.str(), {MarkerMotion{}, MarkerMotion{}});
+  for (int n = 0; n < 8; ++n) expect_matches(*b.element, two_random(rng), "bushing, random " + std::to_string(n));
+  // relative rotations from large (2.5 rad) down to none: the exact rotation-vector derivative and its
+  // small-angle series (below 0.01 rad)
+  for (double angle : {2.5, 1.0, 0.1, 0.02, 0.009, 1e-3, 1e-6, 0.0}) {
+    Point p = two_random(rng);
+    p.markers[0].axes =
+        p.markers[1].axes * Eigen::AngleAxisd(angle, Vec3(0.3, -0.5, 0.8).normalized()).toRotationMatrix();
+    expect_matches(*b.element, p, "bushing, relative rotation " + std::to_string(angle) + " rad");
+  }
+  // the diagonal form too
+  const Built diag = build("force", "bushing", "stiffness = [1e5, 2e5, 3e5, 1e3, 2e3, 3e3]\n"
+                                               "damping = [10, 20, 30, 0.1, 0.2, 0.3]\n",
+                           {MarkerMotion{}, MarkerMotion{}});
+  for (int n = 0; n < 4; ++n) expect_matches(*diag.element, two_random(rng), "diagonal bushing " + std::to_string(n));
+}
+
+// Contact: i's origin against the plane of j (normal z_j). Velocities are set so that the normal rate is as
+// wanted (the clamp: separating fast enough that 1 + alpha delta' < 0).
+void set_normal_rate(Point& p, double vn) {
+  const MarkerMotion& j = p.markers[1];
+  const Vec3 n = j.axes.col(2), d = p.markers[0].position - j.position;
+  const Vec3 vr = p.markers[0].velocity - j.velocity - j.angular_velocity.cross(d);
+  p.markers[0].velocity += (vn - n.dot(vr)) * n;
+}
+void set_tangential(Point& p, double speed, std::mt19937& rng) {
+  const MarkerMotion& j = p.markers[1];
+  const Vec3 n = j.axes.col(2), d = p.markers[0].position - j.position;
+  const Vec3 vr = p.markers[0].velocity - j.velocity - j.angular_velocity.cross(d);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  Vec3 t = Vec3(u(rng), u(rng), u(rng));
+  t = (t - t.dot(n) * n).normalized();
+  p.markers[0].velocity += speed * t - (vr - vr.dot(n) * n);
+}
+
+TEST(ElementJacobians, ContactNormalFrictionOpenAndClamp) {
+  // alpha = 3 (1 - e) / (2 v_ref) = 12 s/m: the clamp (fn = 0) for delta' < -1/12 m/s
+  const std::string common = R"(
+stiffness = 1.0e6
+exponent = 1.5
+restitution = 0.2
+reference_speed = 0.1
+mu_static = 0.3
+mu_dynamic = 0.2
+stribeck_speed = 0.2
+regularization_speed = 0.05
+)";
+  // |d| <= 0.35 along z_j: clearance -0.5 keeps i 0.15 .. 0.85 m deep, +0.5 keeps it open
+  const Built in_contact = build("force", "contact", common + "clearance = -0.5\n", {MarkerMotion{}, MarkerMotion{}});
+  const Built open = build("force", "contact", common + "clearance = 0.5\n", {MarkerMotion{}, MarkerMotion{}});
+  const Built frictionless =
+      build("force", "contact", "stiffness = 1.0e6\nexponent = 1.0\nrestitution = 0.5\nclearance = -0.5\n",
+            {MarkerMotion{}, MarkerMotion{}});
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int n = 0; n < 6; ++n) {
+    const std::string tag = " " + std::to_string(n);
+    Point p = two_random(rng);
+    set_normal_rate(p, 0.05 * u(rng));  // |delta'| < 1/12: pressing or separating slowly, no clamp
+    set_tangential(p, 0.5 + u(rng) * 0.4, rng);  // sliding, the Stribeck range
+    expect_matches(*in_contact.element, p, "contact sliding" + tag);
+    set_tangential(p, 0.02 * (1.0 + u(rng)), rng);  // in the tanh's regularization (near sticking)
+    expect_matches(*in_contact.element, p, "contact near sticking" + tag);
+    set_tangential(p, 1e-5 * (1.0 + u(rng)), rng);  // tanh(x)/x by its series
+    expect_matches(*in_contact.element, p, "contact, slip 1e-5 m/s" + tag);
+    set_tangential(p, 0.0, rng);  // no slip (to round-off)
+    expect_matches(*in_contact.element, p, "contact, no slip" + tag);
+    set_tangential(p, 3.0, rng);
+    expect_matches(*frictionless.element, p, "contact without friction" + tag);
+    set_normal_rate(p, 0.5 + 0.4 * u(rng));  // separating fast: 1 + alpha delta' < 0, clamped to fn = 0
+    expect_matches(*in_contact.element, p, "contact in the clamp" + tag, false);
+    expect_matches(*open.element, two_random(rng), "contact open" + tag, false);
+  }
+}
+
+TEST(ElementJacobians, TableForce) {
+  std::mt19937 rng(5);
+  // breakpoints at +-0.6 and +-2 m: the random deflections (|x| <= 0.35) stay on the middle piece
+  const Built b = build("force", "table-force",
+                        "table = [[-2.0, 3.0e4], [-0.6, 1.0e4], [0.6, -2.0e4], [2.0, -3.0e4]]\n",
+                        {MarkerMotion{}, MarkerMotion{}});
+  for (int n = 0; n < 8; ++n) expect_matches(*b.element, two_random(rng), "table force " + std::to_string(n));
+  // beyond the table's ends (constant): only the direction's turning with z_j
+  const Built narrow =
+      build("force", "table-force", "table = [[-0.001, 50.0], [0.001, -50.0]]\n", {MarkerMotion{}, MarkerMotion{}});
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int n = 0; n < 4; ++n) {
+    Point p = two_random(rng);
+    const Vec3 n_j = p.markers[1].axes.col(2);
+    p.markers[0].position = p.markers[1].position + (n % 2 ? 0.2 : -0.2) * n_j + 0.1 * Vec3(u(rng), 0.0, 0.0);
+    expect_matches(*narrow.element, p, "table force beyond the table " + std::to_string(n));
+  }
+}
+
+
+TEST(ElementJacobians, MotorAsForceAndAsDriver) {
+  std::mt19937 rng(3);
+  // breakpoints at +-1000 rpm (105 rad/s); the random relative speeds stay below 100 rpm
+  const std::string curve = "table = [[-3000.0, 20.0], [-1000.0, 15.0], [1000.0, -5.0], [3000.0, -10.0]]\n";
+  for (const std::string section : {"force", "driver"}) {
+    const Built b = build(section, "motor", curve, {MarkerMotion{}, MarkerMotion{}});
+    for (int n = 0; n < 6; ++n) expect_matches(*b.element, two_random(rng), section + " motor " + std::to_string(n));
+  }
+}
+
+TEST(ElementJacobians, LoadsAgainstTimeCrankAngleAndHarmonic) {
+  std::mt19937 rng(9);
+  struct Case {
+    std::string type, keys;
+  };
+  // crank-angle tables are periodic (720 deg); the first leaves a wrap from 700 deg to 0 (= 720)
+  const std::string crank_table =
+      "abscissa = \"crank-angle\"\noffset_deg = 15.0\nscale = 2.5\n"
+      "table = [[0.0, 0.0], [100.0, 40.0], [300.0, 100.0], [500.0, 20.0], [700.0, 5.0]]\n";
+  const std::vector<Case> cases = {
+      {"force", "direction = [0.0, 1.0, 0.5]\naxes = \"marker\"\n" + crank_table},
+      {"torque", "direction = [1.0, -2.0, 0.5]\naxes = \"marker\"\n" + crank_table},
+      {"force", "direction = [0.3, 1.0, 0.0]\n" + crank_table},
+      {"torque", "direction = [1.0, 0.0, 0.0]\ntable = [[0.0, 1.0], [1.0, 3.0]]\n"},
+      {"force", "direction = [1.0, 2.0, 3.0]\naxes = \"marker\"\ntable = [[0.0, 1.0], [1.0, 3.0]]\n"},
+      {"force", "direction = [0.0, 0.0, 1.0]\naxes = \"marker\"\namplitude = 5.0\nfrequency_hz = 30.0\n"},
+      {"torque", "direction = [0.0, 1.0, 1.0]\naxes = \"marker\"\namplitude = 5.0\nfrequency_hz = 30.0\nphase_deg = 20\n"},
+      {"torque", "direction = [0.0, 1.0, 1.0]\namplitude = 5.0\nfrequency_hz = 30.0\n"},
+  };
+  // crank angles (rad) away from the breakpoints: 1.9 deg (-15 wraps to 706.9: the wrap piece), 74, 401,
+  // 710.5 - 15, -57 deg (wraps), and a later cycle
+  const std::vector<double> cranks = {0.0333, 1.3, 7.0, 12.4, -1.0, 30.0};
+  for (std::size_t k = 0; k < cases.size(); ++k) {
+    const Built b = build("load", cases[k].type, cases[k].keys, {MarkerMotion{}});
+    const bool crank = b.element->uses_crank_angle();
+    for (double c : cranks) {
+      Point p{{random_motion(rng)}, {}, {}, 0.0123 + 0.1 * c * c, c};
+      // loads along global axes against time have no dependence on any column: all zeros
+      const bool moves = crank || cases[k].keys.find("\"marker\"") != std::string::npos;
+      expect_matches(*b.element, p, cases[k].type + " load " + std::to_string(k) + " at crank " + std::to_string(c),
+                     moves);
+    }
+  }
+}
+
+TEST(ElementJacobians, SpringDampersForReference) {
+  std::mt19937 rng(21);
+  const Built sd = build("force", "spring-damper", "k = 1e5\nd = 300\nkB = 2e5\ndB = 100\nxB = 0.01\nfree_length = 0.02\n",
+                         {MarkerMotion{}, MarkerMotion{}});
+  const Built tsd = build("force", "torsional-spring-damper", "k = 500.0\nd = 2.0\nangle0_deg = 10.0\n",
+                          {MarkerMotion{}, MarkerMotion{}});
+  for (int n = 0; n < 4; ++n) {
+    expect_matches(*sd.element, two_random(rng), "spring-damper " + std::to_string(n));
+    Point p = two_random(rng);
+    p.z = {0.3 * n - 0.4};
+    p.zp = {1.7 - n};
+    expect_matches(*tsd.element, p, "torsional spring-damper " + std::to_string(n));
+  }
+}
+
+// Every registered element type has its analytic Jacobian (the journal bearing differentiates its film model
+// partly by differences and is checked in test_jacobian.cpp). A new type needs its keys here.
+TEST(ElementJacobians, EveryRegisteredTypeIsAnalytic) {
+  const std::map<std::string, std::string> keys = {
+      {"force spring-damper", "k = 1e4\nd = 10\n"},
+      {"force bushing", "stiffness = [1e5, 2e5, 3e5, 1e3, 2e3, 3e3]\ndamping = [10, 20, 30, 0.1, 0.2, 0.3]\n"},
+      {"force torsional-spring-damper", "k = 500.0\nd = 2.0\n"},
+      {"force contact", "stiffness = 1e6\nclearance = -0.5\nmu_static = 0.3\n"},
+      {"force table-force", "table = [[-1.0, 1e4], [1.0, -1e4]]\n"},
+      {"force motor", "table = [[-1000.0, 20.0], [3000.0, -5.0]]\n"},
+      {"driver motor", "table = [[-1000.0, 20.0], [3000.0, -5.0]]\n"},
+      {"load force", "direction = [0, 0, 1]\naxes = \"marker\"\namplitude = 1.0\nfrequency_hz = 10.0\n"},
+      {"load torque", "direction = [0, 0, 1]\nabscissa = \"crank-angle\"\ntable = [[0.0, 0.0], [720.0, 1.0]]\n"},
+  };
+  std::mt19937 rng(1);
+  std::set<std::string> seen;
+  for (const ElementType* et : builtin_elements().all()) {
+    const std::string name = et->section + " " + et->name;
+    if (et->name == "journal-bearing") continue;
+    seen.insert(name);
+    const auto it = keys.find(name);
+    ASSERT_NE(it, keys.end()) << name << ": a registered type without keys in this test (add them, and its checks)";
+    std::vector<MarkerMotion> initial(et->marker_keys.size() == 1 && et->marker_keys[0] == "at" ? 1 : 2);
+    const Built b = build(et->section, et->name, it->second, initial);
+    Point p;
+    for (std::size_t k = 0; k < initial.size(); ++k) p.markers.push_back(random_motion(rng));
+    for (const auto& s : b.element->states()) p.z.push_back(s.initial + 0.1), p.zp.push_back(0.2);
+    p.crank = 1.0;
+    const Result r = check(*b.element, p);
+    EXPECT_TRUE(r.analytic) << name << ": jacobian() returns false (the model differentiates it locally)";
+    EXPECT_LE(r.worst, kTolerance) << name << ": worst at " << r.where;
+    double& w = worst_per_type()[b.element->type()];
+    w = std::max(w, r.worst);
+  }
+  EXPECT_EQ(seen.size(), keys.size()) << "a type listed here is no longer registered";
+}
+
+TEST(ElementJacobians, WorstPerType) {
+  for (const auto& [type, worst] : worst_per_type())
+    std::printf("  element jacobian  %-26s worst relative error %.2e\n", type.c_str(), worst);
+}
+
+}  // namespace
+}  // namespace nvh::solve
