@@ -3,7 +3,7 @@
 //
 //   bench_solve_work_precision SCENE SIGNAL COLUMN OUT.csv [REFERENCE_RTOL [FINEST_RTOL [events-off]]]
 // With `events-off` both sweeps run again without contact events ([integrator] events = false), as methods
-// "ida, no events" and "generalized-alpha, no events"; the reference keeps them (the scene's setting).
+// "ida no-events" and "generalized-alpha no-events"; the reference keeps them (the scene's setting).
 //   e.g. bench_solve_work_precision testdata/scenes/piston_slap.toml markers/piston.pin/position 0 wp.csv
 // The error is max |s - s_ref| over the samples divided by max |s_ref - mean(s_ref)|.
 #include <ctime>
@@ -106,7 +106,7 @@ int main(int argc, char** argv) {
   };
   for (const bool events : {true, false}) {
     if (!events && !compare_events) break;
-    const std::string suffix = events ? "" : ", no events";
+    const std::string suffix = events ? "" : " no-events";
     for (double tol : {1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10}) {
       if (tol < finest * 0.999) break;
       IntegratorSettings s = base.integrator;
