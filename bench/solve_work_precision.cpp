@@ -1,7 +1,9 @@
 // Work-precision of solve's integrators: error against a reference run (IDA at rtol 1e-11) versus CPU time,
 // for IDA over tolerances and generalized-alpha over steps, on one scene. Prints a table and writes CSV.
 //
-//   bench_solve_work_precision SCENE SIGNAL COLUMN OUT.csv [REFERENCE_RTOL [FINEST_RTOL]]
+//   bench_solve_work_precision SCENE SIGNAL COLUMN OUT.csv [REFERENCE_RTOL [FINEST_RTOL [events-off]]]
+// With `events-off` both sweeps run again without contact events ([integrator] events = false), as methods
+// "ida no-events" and "generalized-alpha no-events"; the reference keeps them (the scene's setting).
 //   e.g. bench_solve_work_precision testdata/scenes/piston_slap.toml markers/piston.pin/position 0 wp.csv
 // The error is max |s - s_ref| over the samples divided by max |s_ref - mean(s_ref)|.
 #include <ctime>
@@ -22,7 +24,7 @@ namespace {
 
 struct Outcome {
   double cpu_s = 0;
-  long steps = 0;
+  long steps = 0, rejected = 0, newton_failures = 0, events = 0;
   Eigen::VectorXd signal;
   bool ok = true;
 };
@@ -41,6 +43,9 @@ Outcome run(const std::filesystem::path& scene_file, const IntegratorSettings& s
   try {
     const RunSummary s = run_scene(scene, options, make_provenance("bench", 0, nullptr, {}), log);
     o.steps = s.statistics.steps;
+    o.rejected = s.statistics.rejected_steps;
+    o.newton_failures = s.statistics.nonlinear_failures;
+    o.events = s.statistics.events;
   } catch (const std::exception& e) {
     o.ok = false;
     std::cerr << "  run failed: " << e.what() << "\n";
@@ -57,12 +62,14 @@ Outcome run(const std::filesystem::path& scene_file, const IntegratorSettings& s
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc < 5 || argc > 7) {
-    std::cerr << "usage: bench_solve_work_precision SCENE SIGNAL COLUMN OUT.csv [REFERENCE_RTOL [FINEST_RTOL]]\n";
+  if (argc < 5 || argc > 8) {
+    std::cerr << "usage: bench_solve_work_precision SCENE SIGNAL COLUMN OUT.csv [REFERENCE_RTOL [FINEST_RTOL "
+                 "[events-off]]]\n";
     return 2;
   }
   const double reference_rtol = argc > 5 ? std::stod(argv[5]) : 1e-11;
   const double finest = argc > 6 ? std::stod(argv[6]) : 1e-10;
+  const bool compare_events = argc > 7 && std::string(argv[7]) == "events-off";
   const std::filesystem::path scene = argv[1];
   const std::string signal = argv[2];
   const int column = std::stoi(argv[3]);
@@ -80,35 +87,45 @@ int main(int argc, char** argv) {
   }
   const double scale = (reference.signal.array() - reference.signal.mean()).abs().maxCoeff();
   std::ofstream csv(argv[4]);
-  csv << "method,setting,cpu_s,steps,error\n";
+  csv << "method,setting,cpu_s,steps,rejected_steps,newton_failures,events,error\n";
   std::cout << "scene " << scene << ", signal " << signal << "[" << column << "], reference IDA rtol " << reference_rtol << ": "
-            << reference.cpu_s << " s CPU\n";
-  std::cout << std::setw(20) << "method" << std::setw(12) << "setting" << std::setw(12) << "CPU s" << std::setw(10)
-            << "steps" << std::setw(14) << "error\n";
+            << reference.cpu_s << " s CPU, " << reference.steps << " steps, " << reference.rejected << " rejected, "
+            << reference.events << " events\n";
+  std::cout << std::setw(32) << "method" << std::setw(10) << "setting" << std::setw(10) << "CPU s" << std::setw(9)
+            << "steps" << std::setw(9) << "rejected" << std::setw(9) << "Newton" << std::setw(8) << "events"
+            << std::setw(14) << "error\n";
   auto report = [&](const std::string& method, double setting, const Outcome& o) {
     const double err = o.ok && o.signal.size() == reference.signal.size()
                            ? (o.signal - reference.signal).cwiseAbs().maxCoeff() / scale
                            : std::numeric_limits<double>::quiet_NaN();
-    std::cout << std::setw(20) << method << std::setw(12) << setting << std::setw(12) << o.cpu_s << std::setw(10)
-              << o.steps << std::setw(14) << err << (o.ok ? "" : "  (failed)") << "\n";
-    csv << method << "," << setting << "," << o.cpu_s << "," << o.steps << "," << err << "\n";
+    std::cout << std::setw(32) << method << std::setw(10) << setting << std::setw(10) << o.cpu_s << std::setw(9)
+              << o.steps << std::setw(9) << o.rejected << std::setw(9) << o.newton_failures << std::setw(8) << o.events
+              << std::setw(14) << err << (o.ok ? "" : "  (failed)") << "\n";
+    csv << method << "," << setting << "," << o.cpu_s << "," << o.steps << "," << o.rejected << ","
+        << o.newton_failures << "," << o.events << "," << err << "\n";
   };
-  for (double tol : {1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10}) {
-    if (tol < finest * 0.999) break;
-    IntegratorSettings s = base.integrator;
-    s.method = "ida";
-    s.rtol = tol;
-    s.atol = tol * 1e-2;
-    report("ida", tol, run(scene, s, signal, column));
-  }
-  for (double step : {1e-4, 5e-5, 2e-5, 1e-5, 5e-6}) {
-    IntegratorSettings s = base.integrator;
-    s.method = "generalized-alpha";
-    s.step = step;
-    s.rtol = 1e-8;
-    s.atol = 1e-10;
-    s.adaptive = true;
-    report("generalized-alpha", step, run(scene, s, signal, column));
+  for (const bool events : {true, false}) {
+    if (!events && !compare_events) break;
+    const std::string suffix = events ? "" : " no-events";
+    for (double tol : {1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10}) {
+      if (tol < finest * 0.999) break;
+      IntegratorSettings s = base.integrator;
+      s.method = "ida";
+      s.events = events;
+      s.rtol = tol;
+      s.atol = tol * 1e-2;
+      report("ida" + suffix, tol, run(scene, s, signal, column));
+    }
+    for (double step : {1e-4, 5e-5, 2e-5, 1e-5, 5e-6}) {
+      IntegratorSettings s = base.integrator;
+      s.method = "generalized-alpha";
+      s.step = step;
+      s.rtol = 1e-8;
+      s.atol = 1e-10;
+      s.adaptive = true;
+      s.events = events;
+      report("generalized-alpha" + suffix, step, run(scene, s, signal, column));
+    }
   }
   return 0;
 }

@@ -2,6 +2,7 @@
 // Time integrators behind one interface: both solve the model's residual F(t, y, y') = 0 (model.hpp).
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <Eigen/Dense>
 
@@ -21,12 +22,23 @@ struct IntegratorSettings {
   double step = 1e-4;            // generalized-alpha step (s); adapted if `adaptive`
   bool adaptive = true;          // generalized-alpha: halve the step when Newton fails, grow it back
   std::string jacobian = "analytic";  // "analytic" (model.hpp), "colored-fd" (sparse differences) or "dense-fd"
+  bool events = true;            // locate the sign changes of the contact gaps (Model::gaps) as step boundaries
+};
+
+/// A located sign change of a contact gap (Model::gaps): onset (open -> closed, the gap falls below 0) or
+/// release. IDA finds it by its root finding on the gaps and restarts at it (order 1); generalized-alpha
+/// finds it on its Hermite interpolant and redoes the step to end there.
+struct ContactEvent {
+  double time = 0;  // s
+  int gap = 0;      // index among Model::gaps
+  bool onset = true;
 };
 
 /// What the results file reports under /solver/statistics.
 struct IntegratorStatistics {
   long steps = 0, rejected_steps = 0, newton_iterations = 0, jacobian_evaluations = 0, linear_solves = 0,
        residual_evaluations = 0, nonlinear_failures = 0;
+  long events = 0;  // contact onsets and releases located (IntegratorSettings::events)
   int last_order = 0;
   double last_step = 0;
   double cpu_residual_s = 0, cpu_jacobian_s = 0, cpu_factorization_s = 0;
@@ -44,6 +56,17 @@ class Integrator {
   virtual double time() const = 0;
   virtual void state(Eigen::VectorXd& y, Eigen::VectorXd& yp) const = 0;
   virtual IntegratorStatistics statistics() const = 0;
+  /// The located contact events in time order (the first kEventLogSize; statistics().events counts all).
+  const std::vector<ContactEvent>& events() const { return event_log_; }
+  static constexpr std::size_t kEventLogSize = 100000;
+
+ protected:
+  void log_event(const ContactEvent& e) {
+    if (event_log_.size() < kEventLogSize) event_log_.push_back(e);
+  }
+
+ private:
+  std::vector<ContactEvent> event_log_;
 };
 
 std::unique_ptr<Integrator> make_integrator(const Model& model, const IntegratorSettings& s, double t0,

@@ -237,6 +237,7 @@ void ResultsWriter::finish(const std::string& status, const std::string& message
   g.set_attribute("jacobian_evaluations", static_cast<std::int64_t>(st.jacobian_evaluations));
   g.set_attribute("linear_solves", static_cast<std::int64_t>(st.linear_solves));
   g.set_attribute("residual_evaluations", static_cast<std::int64_t>(st.residual_evaluations));
+  g.set_attribute("events", static_cast<std::int64_t>(st.events));
   g.set_attribute("last_order", st.last_order);
   g.set_attribute("last_step_s", st.last_step);
   g.set_attribute("cpu_residual_s", st.cpu_residual_s);

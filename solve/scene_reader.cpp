@@ -290,6 +290,7 @@ void SceneReader::read_integrator(const Table& root) {
   s.step = t->number_or("step", s.step, Range::positive());
   s.adaptive = t->optional_boolean("adaptive").value_or(s.adaptive);
   s.jacobian = t->optional_choice("jacobian", {"analytic", "colored-fd", "dense-fd"}).value_or(s.jacobian);
+  s.events = t->optional_boolean("events").value_or(s.events);
   t->finish();
 }
 
