@@ -394,7 +394,7 @@ sample_rate_hz = 1000
   const double ea = max_error(t, a, [&](double s) { return w0 * (s - tau * (1 - std::exp(-s / tau))); });
   std::printf("measured: motor run-up, speed error / w0 %.3g, angle error %.3g rad (tau = %.6g s)\n", ew, ea, tau);
   EXPECT_LT(ew, 1e-7);
-  EXPECT_LT(ea, 1e-6);  // rad, of 401 rad turned in the 2 s
+  EXPECT_LT(ea, 4e-6);  // rad: 1e-8 of the 401 rad turned in the 2 s (rtol 1e-10 accumulated over 8e4 steps)
 }
 
 // ==================================================================== run-up speed driver
