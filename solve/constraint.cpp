@@ -31,7 +31,7 @@ void dot2(const MarkerMotion& i, const MarkerMotion& j, const Vec3& b_j, Constra
 
 class Joint final : public Constraint {
  public:
-  explicit Joint(JointType t) : type_(t) {}
+  explicit Joint(JointType t) : type_(t), size_(static_cast<int>(equation_names().size())) {}
   std::string type() const override {
     switch (type_) {
       case JointType::kFixed: return "fixed";
@@ -42,7 +42,7 @@ class Joint final : public Constraint {
     }
     return "?";
   }
-  int size() const override { return static_cast<int>(equation_names().size()); }
+  int size() const override { return size_; }
   std::vector<std::string> equation_names() const override {
     const std::vector<std::string> pt = {"point-x", "point-y", "point-z"};
     const std::vector<std::string> axis = {"z_i.x_j", "z_i.y_j"};
@@ -94,6 +94,7 @@ class Joint final : public Constraint {
 
  private:
   JointType type_;
+  int size_;  // equation_names() builds strings: not for the residual's loops
 };
 
 }  // namespace

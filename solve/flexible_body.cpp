@@ -314,6 +314,19 @@ MarkerMotion FlexibleBody::marker_motion(int marker, std::span<const double> q,
   return mm;
 }
 
+// [Jv w; Jw w] = marker_motion's velocity and angular velocity (both written as A (...)), without forming Jv, Jw.
+void FlexibleBody::marker_twist(int marker, std::span<const double> q, std::span<const double> w, Vec3& velocity,
+                                Vec3& angular_velocity) const {
+  const auto& pt = data_.points[point_of(marker)];
+  const Mat3 a = rotation_matrix(vec4(q, 3));
+  const auto eta = tail(q, 7, n_);
+  const auto eta_rate = tail(w, 6, n_);
+  const Vec3 s = pt.position + pt.translation * eta;
+  const Vec3 omega = vec3(w, 3);
+  velocity = vec3(w, 0) + a * (omega.cross(s) + pt.translation * eta_rate);
+  angular_velocity = a * (omega + angular_rate_matrix(pt.rotation * eta) * (pt.rotation * eta_rate));
+}
+
 // Jv = [1, -A s~, A Phi_t],  Jw = [0, A, A T(theta) Phi_r].
 MarkerJacobian FlexibleBody::marker_jacobian(int marker, std::span<const double> q) const {
   const auto& pt = data_.points[point_of(marker)];

@@ -74,6 +74,8 @@ class FlexibleBody final : public Body {
   Eigen::MatrixXd mass_matrix(std::span<const double> q) const override;
   MarkerMotion marker_motion(int marker, std::span<const double> q, std::span<const double> w) const override;
   MarkerJacobian marker_jacobian(int marker, std::span<const double> q) const override;
+  void marker_twist(int marker, std::span<const double> q, std::span<const double> w, Vec3& velocity,
+                    Vec3& angular_velocity) const override;
   Vec3 reference_position(std::span<const double> q) const override;
   Mat3 rotation(std::span<const double> q) const override;
   double kinetic_energy(std::span<const double> q, std::span<const double> w) const override;

@@ -31,10 +31,12 @@ bool same(const bearing::Kinematics& a, const bearing::Kinematics& b) {
 }
 }  // namespace
 
-const bearing::FilmResult& JournalBearingElement::film(const bearing::Kinematics& k) const {
-  if (last_kinematics_ && same(*last_kinematics_, k)) return last_result_;
+const bearing::FilmResult& JournalBearingElement::film(const bearing::Kinematics& k, bearing::Detail detail) const {
+  const bool enough = detail == bearing::Detail::kForces || last_detail_ == bearing::Detail::kFull;
+  if (last_kinematics_ && same(*last_kinematics_, k) && enough) return last_result_;
+  last_detail_ = detail;
   try {
-    last_result_ = bearing_.evaluate(k);
+    last_result_ = bearing_.evaluate(k, detail);
   } catch (const Error&) {
     // |e| >= c or no convergence: a non-finite force makes the integrator cut its step.
     last_result_ = bearing::FilmResult{};
@@ -45,13 +47,14 @@ const bearing::FilmResult& JournalBearingElement::film(const bearing::Kinematics
   return last_result_;
 }
 
-const bearing::FilmResult& JournalBearingElement::film(const MarkerMotion& i, const MarkerMotion& j) const {
-  return film(kinematics(i, j));
+const bearing::FilmResult& JournalBearingElement::film(const MarkerMotion& i, const MarkerMotion& j,
+                                                       bearing::Detail detail) const {
+  return film(kinematics(i, j), detail);
 }
 
 void JournalBearingElement::evaluate(const ElementInput& in, ElementOutput& out) const {
   const MarkerMotion &i = in.markers[0], &j = in.markers[1];
-  const bearing::FilmResult& r = film(i, j);
+  const bearing::FilmResult& r = film(i, j, bearing::Detail::kForces);
   const Vec3 force = j.axes.col(0) * r.force.x() + j.axes.col(1) * r.force.y();
   apply_at_i(in, out, force, r.torque_journal * j.axes.col(2), i.position);
 }
@@ -59,7 +62,7 @@ void JournalBearingElement::evaluate(const ElementInput& in, ElementOutput& out)
 bool JournalBearingElement::jacobian(const ElementInput& in, ElementJacobian& jac) const {
   const MarkerMotion &i = in.markers[0], &j = in.markers[1];
   const bearing::Kinematics k0 = kinematics(i, j);
-  const bearing::FilmResult r0 = film(k0);
+  const bearing::FilmResult r0 = film(k0, bearing::Detail::kForces);
   if (!r0.force.allFinite()) return false;
   const Vec3 x = j.axes.col(0), y = j.axes.col(1), z = j.axes.col(2);
   const Vec3 d = i.position - j.position, dd = i.velocity - j.velocity;
@@ -76,7 +79,7 @@ bool JournalBearingElement::jacobian(const ElementInput& in, ElementJacobian& ja
     const double old = *v;
     *v += step;
     const double h = *v - old;  // the step as represented
-    const bearing::FilmResult& r = film(k);
+    const bearing::FilmResult& r = film(k, bearing::Detail::kForces);
     if (!r.force.allFinite()) return false;
     g(2, col) = (r.torque_journal - r0.torque_journal) / h;
     if (col >= 4) g.block<2, 1>(0, col) = (r.force - r0.force) / h;
@@ -103,7 +106,7 @@ bool JournalBearingElement::jacobian(const ElementInput& in, ElementJacobian& ja
   dt.leftCols<24>() = z * dfilm.row(2);
   dt.block<3, 3>(0, 15) -= r0.torque_journal * skew(z);
   jacobian_at_i(in, jac, df, dt, force);
-  film(k0);  // leave the cache (and the warm start) at this state
+  film(k0, bearing::Detail::kForces);  // leave the cache (and the warm start) at this state
   return true;
 }
 
@@ -131,7 +134,7 @@ void JournalBearingElement::channel_values(const ElementInput& in, std::span<dou
 }
 
 ElementEnergy JournalBearingElement::energy(const ElementInput& in) const {
-  return {0.0, film(in.markers[0], in.markers[1]).power_loss};
+  return {0.0, film(in.markers[0], in.markers[1], bearing::Detail::kForces).power_loss};
 }
 
 void register_journal_bearing(ElementRegistry& r) {

@@ -51,14 +51,16 @@ class JournalBearingElement final : public ForceElement {
   /// The film kinematics this element sees between the two markers (see the top of this file).
   static bearing::Kinematics kinematics(const MarkerMotion& i, const MarkerMotion& j);
   /// The film result at these markers (cached for a repeated state); the force is NaN on failure.
-  const bearing::FilmResult& film(const MarkerMotion& i, const MarkerMotion& j) const;
-  const bearing::FilmResult& film(const bearing::Kinematics& k) const;
+  const bearing::FilmResult& film(const MarkerMotion& i, const MarkerMotion& j,
+                                  bearing::Detail detail = bearing::Detail::kFull) const;
+  const bearing::FilmResult& film(const bearing::Kinematics& k, bearing::Detail detail = bearing::Detail::kFull) const;
   const bearing::JournalBearing& bearing() const { return bearing_; }
 
  private:
   mutable bearing::JournalBearing bearing_;  // mutable: the finite model's warm-start state
   mutable std::optional<bearing::Kinematics> last_kinematics_;
   mutable bearing::FilmResult last_result_;
+  mutable bearing::Detail last_detail_ = bearing::Detail::kForces;
 };
 
 

@@ -23,7 +23,7 @@ struct Model::Workspace {
   std::vector<double> lambda_scratch;
   // Jacobian
   Eigen::MatrixXd dense;                         // n x n
-  Eigen::VectorXd f_scratch, f_plus, y_scratch, yp_scratch;  // n
+  Eigen::VectorXd f0, f_scratch, f_plus, y_scratch, yp_scratch;  // n
   SparsityPattern pattern;
   std::vector<Eigen::MatrixXd> element_jacobian;  // per force element
   std::vector<Eigen::MatrixXd> element_rows_p, element_rows_m;  // per force element: wrench + state rows
@@ -104,11 +104,29 @@ void Model::finalize() {
     w.perturbed.emplace_back(c.constraint->size());
   }
   w.dense.resize(0, 0);
+  w.f0.resize(size_);
   w.f_scratch.resize(size_);
   w.f_plus.resize(size_);
   w.y_scratch.resize(size_);
   w.yp_scratch.resize(size_);
   w.pattern = jacobian_pattern();
+  // Floating bodies whose Euler parameter columns share no row, greedily grouped.
+  radial_groups_.clear();
+  std::vector<std::vector<char>> taken;
+  for (std::size_t b = 0; b < bodies.size(); ++b) {
+    if (bodies[b]->kind() != "rigid" && bodies[b]->kind() != "flexible") continue;
+    const int col = body_offset_[b] + 3;
+    std::size_t g = 0;
+    for (; g < radial_groups_.size(); ++g) {
+      bool clash = false;
+      for (int k = w.pattern.column_start[col]; k < w.pattern.column_start[col + 1] && !clash; ++k)
+        clash = taken[g][w.pattern.rows[k]];
+      if (!clash) break;
+    }
+    if (g == radial_groups_.size()) radial_groups_.emplace_back(), taken.emplace_back(size_, 0);
+    radial_groups_[g].push_back(static_cast<int>(b));
+    for (int k = w.pattern.column_start[col]; k < w.pattern.column_start[col + 1]; ++k) taken[g][w.pattern.rows[k]] = 1;
+  }
   w.kin_dw.clear();
   for (const auto& b : bodies) w.kin_dw.emplace_back(b->position_count(), b->velocity_count());
 }
@@ -356,7 +374,7 @@ void Model::jacobian(double t, const double* y, const double* yp, double cj, std
   if (w.dense.rows() != size_) w.dense.resize(size_, size_);
   Eigen::MatrixXd& jm = w.dense;
   jm.setZero();
-  residual(t, y, yp, w.f_scratch.data());  // fills the workspace: wrenches, constraint equations, C^T mu
+  residual(t, y, yp, w.f0.data());  // fills the workspace: wrenches, constraint equations, C^T mu
 
   // Bodies' own blocks.
   for (std::size_t b = 0; b < bodies.size(); ++b) {
@@ -485,7 +503,8 @@ void Model::jacobian(double t, const double* y, const double* yp, double cj, std
         add_motion(md[k].w0, gw, md[l]);
       }
       if (ns > 0) add_to_dynamics(md[k], -1.0, e.block(6 * k, 12 * nm, 6, ns), z0);
-      if (clock_index_ >= 0) add_to_dynamics(md[k], -1.0, e.block(6 * k, crank_col, 6, 1), clock_index_);
+      if (clock_index_ >= 0 && fe.element->uses_crank_angle())
+        add_to_dynamics(md[k], -1.0, e.block(6 * k, crank_col, 6, 1), clock_index_);
       // the wrench's own change of direction in body coordinates, at fixed (F, T)
       w.scratch_q.setZero(md[k].nw, md[k].nq);
       const Wrench& wr = w.wrenches[fi][k];
@@ -496,7 +515,7 @@ void Model::jacobian(double t, const double* y, const double* yp, double cj, std
     for (int s = 0; s < ns; ++s) {
       for (int l = 0; l < nm; ++l) add_motion(z0 + s, e.block(6 * nm + s, 12 * l, 1, 12), md[l]);
       jm.block(z0 + s, z0, 1, ns) += e.block(6 * nm + s, 12 * nm, 1, ns);
-      if (clock_index_ >= 0) jm(z0 + s, clock_index_) += e(6 * nm + s, crank_col);
+      if (clock_index_ >= 0 && fe.element->uses_crank_angle()) jm(z0 + s, clock_index_) += e(6 * nm + s, crank_col);
     }
   }
 
@@ -615,29 +634,34 @@ void Model::jacobian(double t, const double* y, const double* yp, double cj, std
 
   // Euler parameters: the closed forms above are exact for changes of p tangent to |p| = 1 (rotations); a
   // radial change scales A(p) (rotation.hpp), which no marker rotation expresses. That one direction per
-  // floating body is taken by a directional difference of the residual: J_p <- J_p (I - u u^T) + dF/du u^T,
-  // u = p / |p|.
-  for (std::size_t b = 0; b < bodies.size(); ++b) {
-    const Body& body = *bodies[b];
-    if (body.kind() != "rigid" && body.kind() != "flexible") continue;
-    const int o = body_offset_[b] + 3;
-    const Eigen::Vector4d u = Eigen::Map<const Eigen::Vector4d>(y + o).normalized();
-    const double h = 1e-7;
-    Eigen::VectorXd &yy = w.y_scratch, &yyp = w.yp_scratch;  // y and y' together: dF/dy + cj dF/dy'
+  // floating body is a forward difference of the residual, J_p <- J_p (I - u u^T) + dF/du u^T with u = p / |p|
+  // (y and y' moved together: dF/dy + cj dF/dy'); bodies that share no row are moved together (one residual
+  // per group, radial_groups_).
+  const Eigen::VectorXd& f0 = w.f0;
+  for (const auto& group : radial_groups_) {
+    Eigen::VectorXd &yy = w.y_scratch, &yyp = w.yp_scratch;
     yy = Eigen::Map<const Eigen::VectorXd>(y, size_);
     yyp = Eigen::Map<const Eigen::VectorXd>(yp, size_);
-    yy.segment<4>(o) += h * u;
-    yyp.segment<4>(o) += cj * h * u;
-    Eigen::VectorXd& fp = w.f_plus;
-    residual(t, yy.data(), yyp.data(), fp.data());
-    yy.segment<4>(o) -= 2 * h * u;
-    yyp.segment<4>(o) -= 2 * cj * h * u;
-    residual(t, yy.data(), yyp.data(), w.f_scratch.data());
-    const Eigen::VectorXd radial = (fp - w.f_scratch) / (2 * h);
-    jm.middleCols<4>(o) = (jm.middleCols<4>(o) * (Eigen::Matrix4d::Identity() - u * u.transpose())).eval();
-    jm.middleCols<4>(o) += radial * u.transpose();
+    const double h = 1e-8;
+    for (int b : group) {
+      const int o = body_offset_[b] + 3;
+      const Eigen::Vector4d u = yy.segment<4>(o).normalized();
+      yy.segment<4>(o) += h * u;
+      yyp.segment<4>(o) += cj * h * u;
+    }
+    residual(t, yy.data(), yyp.data(), w.f_plus.data());
+    for (int b : group) {
+      const int o = body_offset_[b] + 3;
+      const Eigen::Vector4d u = Eigen::Map<const Eigen::Vector4d>(y + o).normalized();
+      jm.middleCols<4>(o) = (jm.middleCols<4>(o) * (Eigen::Matrix4d::Identity() - u * u.transpose())).eval();
+      const SparsityPattern& p = w.pattern;
+      for (int k = p.column_start[o]; k < p.column_start[o + 1]; ++k) {
+        const int r = p.rows[k];
+        jm.row(r).segment<4>(o) += (w.f_plus[r] - f0[r]) / h * u.transpose();
+      }
+    }
   }
-  residual(t, y, yp, w.f_scratch.data());  // leave the workspace (and a bearing's cache) at this state
+  if (!radial_groups_.empty()) residual(t, y, yp, w.f_scratch.data());  // the workspace (and a bearing's cache) back at this state
 
   // Energy integrals: their rates only (they feed nothing back).
   jm(energy_offset_, energy_offset_) += cj;
@@ -881,12 +905,13 @@ SparsityPattern Model::jacobian_pattern() const {
     std::vector<int> bs;
     for (const auto& m : fe.markers) bs.push_back(m.body);
     const int eb = element_block0 + f;
+    const bool crank = clock_index_ >= 0 && fe.element->uses_crank_angle();
     for (int a : bs) {
       for (int b : bs) deps[a].insert(b);
       if (fe.state_count > 0) deps[a].insert(eb), deps[eb].insert(a);
-      if (clock_index_ >= 0) deps[a].insert(clock_block);
+      if (crank) deps[a].insert(clock_block);
     }
-    if (clock_index_ >= 0 && fe.state_count > 0) deps[eb].insert(clock_block);
+    if (crank && fe.state_count > 0) deps[eb].insert(clock_block);
   }
   if (clock_index_ >= 0) {
     deps[clock_block].insert(clock->i.body);

@@ -20,7 +20,9 @@
 // Jacobian (jacobian(): dF/dy + cj dF/dy', in the pattern of jacobian_pattern()): assembled from the bodies'
 // own blocks and marker sensitivities (body.hpp) and each element's Jacobian by its markers' motion
 // (force_element.hpp) through the chain rule; constraints' first derivatives are exact (their D matrices), the
-// change of D with the markers' pose (d(C w)/dq, d(C^T lambda)/dq) is differentiated locally per constraint.
+// change of D with the markers' pose (d(C w)/dq, d(C^T lambda)/dq) is differentiated locally per constraint,
+// and the radial direction of each floating body's Euler parameters (which scales A(p), rotation.hpp) by a
+// forward difference of the residual, bodies sharing no row moved together.
 // Two terms are left out by design: d(C^T mu)/dq in the kinematic rows (mu = 0 on the solution) and the energy
 // rows' dependence on the state (the integrals feed nothing back). Not thread-safe: the residual and Jacobian
 // use preallocated workspaces (no heap allocation per call for rigid bodies and point masses).
@@ -164,6 +166,7 @@ class Model {
   std::vector<int> body_offset_;
   std::vector<int> w_global_offset_;  // offset of each body's w in the stacked velocity vector
   int n_w_ = 0;
+  std::vector<std::vector<int>> radial_groups_;  // floating bodies whose Euler parameter columns share no row
   std::unique_ptr<Workspace> ws_;
 };
 

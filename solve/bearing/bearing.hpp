@@ -73,6 +73,10 @@ struct Kinematics {
   double omega_shell = 0;                           ///< rad/s
 };
 
+/// How much of FilmResult an evaluation fills: everything, or the forces, torques and Jacobian alone (the
+/// short bearing's peak-pressure search is most of its cost and only an output channel needs it).
+enum class Detail { kFull, kForces };
+
 /// What one evaluation of the film returns.
 struct FilmResult {
   Eigen::Vector2d force = Eigen::Vector2d::Zero();  ///< N, film force on the journal (the shell gets -force)

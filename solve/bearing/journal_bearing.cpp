@@ -10,10 +10,10 @@ JournalBearing::JournalBearing(BearingSpec spec, FiniteSolverOptions options) : 
   if (spec_.model == Model::kFinite) finite_.emplace(spec_, options);
 }
 
-FilmResult JournalBearing::evaluate(const Kinematics& k) {
+FilmResult JournalBearing::evaluate(const Kinematics& k, Detail detail) {
   switch (spec_.model) {
     case Model::kShort:
-      return evaluate_short(spec_, k);
+      return evaluate_short(spec_, k, detail);
     case Model::kLong:
       return evaluate_long(spec_, k);
     case Model::kFinite:

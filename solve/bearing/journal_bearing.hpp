@@ -17,7 +17,7 @@ class JournalBearing {
  public:
   /// Validates the spec (nvh::Error naming the field).
   explicit JournalBearing(BearingSpec spec, FiniteSolverOptions options = {});
-  FilmResult evaluate(const Kinematics& k);
+  FilmResult evaluate(const Kinematics& k, Detail detail = Detail::kFull);
   const BearingSpec& spec() const { return spec_; }
   /// The finite model's solver (pressure field, fill ratio), or nullptr for the closed forms.
   const FiniteBearing* finite() const { return finite_ ? &*finite_ : nullptr; }

@@ -11,7 +11,7 @@ namespace {
 constexpr double kPi = std::numbers::pi;
 }
 
-FilmResult evaluate_short(const BearingSpec& spec, const Kinematics& k) {
+FilmResult evaluate_short(const BearingSpec& spec, const Kinematics& k, Detail detail) {
   check_eccentricity(spec, k);
   const double R = spec.radius(), L = spec.width, c = spec.radial_clearance, mu = spec.viscosity;
   const double ex = k.e.x(), ey = k.e.y(), vx = k.e_dot.x(), vy = k.e_dot.y();
@@ -49,7 +49,7 @@ FilmResult evaluate_short(const BearingSpec& spec, const Kinematics& k) {
   r.torque_shell = couette * (k.omega_journal - k.omega_shell) + pressure_part;
 
   // Peak pressure on the mid-plane: max of -G / h^3 over the loaded half, (1.5 mu L^2) times it.
-  if (rho > 0) {
+  if (rho > 0 && detail == Detail::kFull) {
     auto minus_g_h3 = [&](double t) {
       const double h = c - ex * std::cos(t) - ey * std::sin(t);
       return -(A * std::sin(t) - B * std::cos(t)) / (h * h * h);

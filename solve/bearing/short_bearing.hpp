@@ -18,6 +18,6 @@ namespace nvh::bearing {
 
 /// Film force, torques, flows and the analytic Jacobian of the short bearing. Supply pressure, holes and
 /// grooves are ignored (the closed form assumes a flooded film); feed_flow is set to the side flow.
-FilmResult evaluate_short(const BearingSpec& spec, const Kinematics& k);
+FilmResult evaluate_short(const BearingSpec& spec, const Kinematics& k, Detail detail = Detail::kFull);
 
 }  // namespace nvh::bearing
