@@ -7,6 +7,7 @@ const ElementRegistry& builtin_elements() {
   static const ElementRegistry registry = [] {
     ElementRegistry r;
     register_spring_damper(r);
+    register_maxwell(r);
     register_bushing(r);
     register_torsional_spring_damper(r);
     register_contact(r);

@@ -240,7 +240,7 @@ regularization_speed = 0.05
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   for (int n = 0; n < 6; ++n) {
-    const std::string tag = " " + std::to_string(n);
+    const std::string tag = std::string(" ").append(std::to_string(n));  // (" " + ... trips GCC 12 -Wrestrict)
     Point p = two_random(rng);
     set_normal_rate(p, 0.05 * u(rng));  // |delta'| < 1/12: pressing or separating slowly, no clamp
     set_tangential(p, 0.5 + u(rng) * 0.4, rng);  // sliding, the Stribeck range
@@ -330,7 +330,12 @@ TEST(ElementJacobians, SpringDampersForReference) {
                          {MarkerMotion{}, MarkerMotion{}});
   const Built tsd = build("force", "torsional-spring-damper", "k = 500.0\nd = 2.0\nangle0_deg = 10.0\n",
                           {MarkerMotion{}, MarkerMotion{}});
+  const Built mx = build("force", "maxwell", "k = 1e5\nc = 300\nfree_length = 0.02\n", {MarkerMotion{}, MarkerMotion{}});
   for (int n = 0; n < 4; ++n) {
+    Point pm = two_random(rng);
+    pm.z = {0.01 * n - 0.02};
+    pm.zp = {0.5 - 0.3 * n};
+    expect_matches(*mx.element, pm, "maxwell " + std::to_string(n));
     expect_matches(*sd.element, two_random(rng), "spring-damper " + std::to_string(n));
     Point p = two_random(rng);
     p.z = {0.3 * n - 0.4};
@@ -344,6 +349,7 @@ TEST(ElementJacobians, SpringDampersForReference) {
 TEST(ElementJacobians, EveryRegisteredTypeIsAnalytic) {
   const std::map<std::string, std::string> keys = {
       {"force spring-damper", "k = 1e4\nd = 10\n"},
+      {"force maxwell", "k = 1e5\nc = 300\nfree_length = 0.02\n"},
       {"force bushing", "stiffness = [1e5, 2e5, 3e5, 1e3, 2e3, 3e3]\ndamping = [10, 20, 30, 0.1, 0.2, 0.3]\n"},
       {"force torsional-spring-damper", "k = 500.0\nd = 2.0\n"},
       {"force contact", "stiffness = 1e6\nclearance = -0.5\nmu_static = 0.3\n"},
