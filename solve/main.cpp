@@ -10,6 +10,7 @@
 #include "common/log.hpp"
 #include "common/provenance.hpp"
 #include "common/version.hpp"
+#include "solve/element_registry.hpp"
 #include "solve/run.hpp"
 #include "solve/scene.hpp"
 #if __has_include("solve/bearing/bearing_map_cli.hpp")
@@ -24,9 +25,9 @@ constexpr const char* kDescription =
 
 Reads a scene file (TOML, docs/scene-format.md): bodies (ground, rigid, point masses) with markers,
 ideal joints (fixed, revolute, spherical, prismatic, cylindrical; redundant equations of closed planar
-loops are found and removed), force elements (spring-dampers linear and non-linear, bushings,
-torsional spring-dampers, contacts with clearance, Hunt-Crossley damping and Coulomb friction,
-tables, motor torque-speed curves), speed drivers, loads against time or crank angle (cylinder
+loops are found and removed), force elements (listed below: spring-dampers, Maxwell mounts,
+bushings, torsional couplings, contacts with clearance and friction, tables, motor curves,
+hydrodynamic journal bearings), speed drivers, loads against time or crank angle (cylinder
 pressure x piston area, periodic over 720 deg), a clock (crank angle; end by time, angle or cycles).
 It integrates the differential-algebraic equations with SUNDIALS IDA (variable-order BDF, KLU sparse
 solver) or generalized-alpha, and writes RESULTS.h5 at a fixed sample rate: time, crank angle,
@@ -44,6 +45,26 @@ Exit codes: 0 success; 1 bad input or a failed run (the message names the file, 
 the time and the body / joint / element that failed; samples so far are kept); 2 bad command line;
 3 interrupted (output flushed, checkpoint written).)";
 
+/// The element types the scene accepts, from solve's element registry (so a new element appears here by
+/// registering itself): section, type, marker keys and the registry's one-line summary, wrapped.
+std::string element_types_help() {
+  std::ostringstream out;
+  out << "Element types (the element registry; details in docs/scene-format.md section 4):\n";
+  for (const nvh::solve::ElementType* et : nvh::solve::builtin_elements().all()) {
+    std::string markers;
+    for (const auto& k : et->marker_keys) markers += (markers.empty() ? "" : ", ") + k;
+    out << "  [[" << et->section << "]] type = \"" << et->name << "\"  (markers: " << markers << ")\n";
+    std::istringstream words(et->summary);
+    std::string line = "     ", word;
+    while (words >> word) {
+      if (line.size() + word.size() + 1 > 104) out << line << "\n", line = "     ";
+      line += " " + word;
+    }
+    out << line << "\n";
+  }
+  return out.str();
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -55,6 +76,7 @@ int main(int argc, char** argv) {
 #endif
   CLI::App app{kDescription, "solve"};
   app.get_formatter()->column_width(34);
+  app.footer(element_types_help());
   std::string scene_file, output_file;
   bool restart = false, quiet = false, verbose = false;
   std::string progress_style = "auto";

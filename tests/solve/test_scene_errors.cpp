@@ -6,6 +6,7 @@
 #include <fstream>
 
 #include "common/error.hpp"
+#include "solve/element_registry.hpp"
 #include "solve_fixture.hpp"
 
 namespace nvh::solve {
@@ -79,6 +80,31 @@ TEST(SolveSceneErrors, CliExitsOneAndWritesNothing) {
   const int status = std::system(cmd.c_str());
   EXPECT_EQ(WEXITSTATUS(status), 1);
   EXPECT_FALSE(std::filesystem::exists(out));
+}
+
+// The accepted element types come from the registry: an unknown type's error lists every registered [[force]]
+// type, and `solve --help` lists every registered type of every section.
+TEST(SolveSceneErrors, UnknownForceTypeListsTheRegisteredOnes) {
+  const std::string msg = error_of(kBase + "[[force]]\nname = \"f\"\ntype = \"springdamper\"\ni = \"arm.pivot\"\n"
+                                           "j = \"ground.a\"\n" + kClock);
+  EXPECT_NE(msg.find("bad.toml"), std::string::npos) << msg;
+  for (const std::string& name : builtin_elements().names("force"))
+    EXPECT_NE(msg.find(name), std::string::npos) << "not listed: " << name << "\n" << msg;
+}
+
+TEST(SolveSceneErrors, HelpListsEveryRegisteredElementType) {
+  const auto out = testing::temp_path("solve_help.txt");
+  const std::string cmd = std::string(NVH_BINARY_DIR) + "/solve/solve --help > " + out.string();
+  ASSERT_EQ(WEXITSTATUS(std::system(cmd.c_str())), 0);
+  std::ifstream in(out);
+  const std::string help((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  int listed = 0;
+  for (const ElementType* et : builtin_elements().all()) {
+    const std::string line = "[[" + et->section + "]] type = \"" + et->name + "\"";
+    EXPECT_NE(help.find(line), std::string::npos) << "not in --help: " << line;
+    ++listed;
+  }
+  EXPECT_GE(listed, 11);  // the shipped types (force_element.hpp); fewer means the registry lost some
 }
 
 }  // namespace
