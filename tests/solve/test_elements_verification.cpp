@@ -815,7 +815,7 @@ sample_rate_hz = 1000
   const Eigen::VectorXd dx = signal(file, "forces/spring/deflection"), z = signal(file, "markers/mass.c/position", 2);
   const double x = -z[z.size() - 1] - l;
   std::printf("measured: non-linear spring, rest deflection %.10g m (Cardano %.10g m; linear would give %.6g m); "
-              "channel deflection_m %.10g m\n", x, x_ref, m * kG / k0, dx[dx.size() - 1]);
+              "channel deflection %.10g m\n", x, x_ref, m * kG / k0, dx[dx.size() - 1]);
   EXPECT_NEAR(x, x_ref, 1e-9);  // m; zeta ~ 0.25 at ~60 rad/s: exp(-22) of the 6 mm transient left at 1.5 s
   EXPECT_NEAR(dx[dx.size() - 1], x_ref, 1e-9);
 }
