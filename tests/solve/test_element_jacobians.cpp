@@ -26,7 +26,8 @@ namespace {
 
 constexpr double kTolerance = 1e-6;
 
-/// An element built by the registry from the TOML keys of its table, with its markers' initial motion.
+/// An element built by the registry from the TOML keys of its table, with its markers' initial motion; the
+/// markers are on body "a" but the last, on "b" (one marker: on "a").
 struct Built {
   input::Document doc;
   std::unique_ptr<ForceElement> element;
@@ -40,7 +41,9 @@ Built build(const std::string& section, const std::string& type, const std::stri
   Built b{input::Document::parse(keys, type + ".toml"), nullptr};
   const input::Table t = b.doc.root();
   std::vector<std::filesystem::path> files;
-  ElementContext c{t, std::filesystem::path(NVH_SOURCE_DIR) / "testdata/scenes", files, initial};
+  std::vector<std::string> bodies(initial.size(), "a");
+  if (bodies.size() > 1) bodies.back() = "b";
+  ElementContext c{t, std::filesystem::path(NVH_SOURCE_DIR) / "testdata/scenes", files, initial, bodies};
   b.element = et->make(c);
   return b;
 }
