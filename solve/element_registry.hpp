@@ -2,9 +2,10 @@
 // The registry of element types: a scene keyword -> its reader and factory (force_element.hpp says how to add
 // one). The scene reader looks types up here; the accepted names, --help and the docs' list come from it.
 //
-// Sections of a scene that hold elements: [[force]] (two markers i, j, or a list `markers`), [[load]] (one
+// Sections of a scene that hold elements: [[force]] (two markers i, j, or lists of markers), [[load]] (one
 // marker `at`) and [[driver]] types that are force elements (a motor curve). A type declares the marker keys
-// it reads; the scene reader resolves them (with its located errors) before the factory runs.
+// it reads; the scene reader resolves them (with its located errors) before the factory runs, in the order of
+// the keys: a key written `name[]` is a list `name = ["body.m1", ...]` (at least one), its markers in turn.
 #include <filesystem>
 #include <functional>
 #include <map>
@@ -25,6 +26,7 @@ struct ElementContext {
   std::filesystem::path base;                      // folder of the scene file: relative paths start here
   std::vector<std::filesystem::path>& input_files;  // append every file read
   std::vector<MarkerMotion> initial;                // the markers' motion at the initial state as given
+  std::vector<std::string> marker_bodies;           // the body (its name) of each marker
 
   /// A table y(x) from 'table' = [[x, y], ...] or 'file' = "t.csv" with 'columns' = ["x", "y"]; errors name
   /// the key. `what` describes it for messages; a period > 0 makes it periodic.
@@ -35,7 +37,7 @@ struct ElementType {
   std::string section;                   // "force", "load" or "driver"
   std::string name;                      // the scene's `type` value
   std::string summary;                   // one line for --help and docs
-  std::vector<std::string> marker_keys;  // e.g. {"i", "j"} or {"at"}; {"markers"} for a list
+  std::vector<std::string> marker_keys;  // e.g. {"i", "j"} or {"at"}; {"points[]", "j"}: a list, then j
   std::function<std::unique_ptr<ForceElement>(ElementContext&)> make;
 };
 

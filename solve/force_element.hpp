@@ -110,6 +110,10 @@ class ForceElement {
   /// True if evaluate() reads the crank angle (the model then couples the element to the clock).
   virtual bool uses_crank_angle() const { return false; }
 
+  /// The results' /forces/<name>/force and torque: the sum of the wrenches of the first resultant_markers()
+  /// markers, moved to marker 0's origin (1: marker i's wrench; a many-point element: all on the points' body).
+  virtual int resultant_markers() const { return 1; }
+
   virtual std::vector<Channel> channels() const { return {}; }
   virtual void channel_values(const ElementInput&, std::span<double>) const {}
 

@@ -186,8 +186,14 @@ void ResultsWriter::add_sample(double t, const Scene& scene, const Eigen::Vector
       state_rows_.assign(f.state_count, 0.0);
       ElementOutput out{wrenches_, state_rows_};
       f.element->evaluate(in, out);
-      put(wrenches_[0].force);
-      put(wrenches_[0].torque);
+      // the resultant of the first markers' wrenches at marker 0's origin (force_element.hpp: resultant_markers)
+      Wrench total = wrenches_[0];
+      for (int k = 1; k < f.element->resultant_markers(); ++k) {
+        total.force += wrenches_[k].force;
+        total.torque += wrenches_[k].torque + (in.markers[k].position - in.markers[0].position).cross(wrenches_[k].force);
+      }
+      put(total.force);
+      put(total.torque);
       values_.assign(f.element->channels().size(), 0.0);
       f.element->channel_values(in, values_);
       for (double v : values_) put1(v);

@@ -204,7 +204,7 @@ void SceneReader::read_driver(const Table& t) {
     theta = [=](double time) { return theta0 + w * time; };
     rate = [=](double) { return w; };
   } else {
-    ElementContext context{t, base_, s_.input_files, {}};
+    ElementContext context{t, base_, s_.input_files, {}, {}};
     auto table = std::make_shared<Table1D>(context.table_from("speed driver's rpm(t)"));
     theta = [=](double time) { return theta0 + kRpm * table->integral(time) - kRpm * table->integral(0.0); };
     rate = [=](double time) { return kRpm * (*table)(time); };
@@ -219,19 +219,26 @@ void SceneReader::read_element(const Table& t, const std::string& section) {
   const std::string type = section == "driver" ? t.string("type") : t.choice("type", registry.names(section));
   const ElementType& et = *registry.find(section, type);
   std::vector<MarkerRef> markers;
+  bool lists = false;
   for (const auto& key : et.marker_keys) {
-    if (key == "markers") {
-      for (const auto& full : t.strings("markers")) markers.push_back(marker(t, "markers", full));
-      if (markers.empty()) t.fail("markers", "expected at least one marker \"body.marker\"");
+    if (key.ends_with("[]")) {  // a list of markers (element_registry.hpp)
+      lists = true;
+      const std::string list = key.substr(0, key.size() - 2);
+      const auto names = t.strings(list);
+      if (names.empty()) t.fail(list, "expected at least one marker \"body.marker\"");
+      for (const auto& full : names) markers.push_back(marker(t, list, full));
     } else {
       markers.push_back(marker(t, key));
     }
   }
-  ElementContext context{t, base_, s_.input_files, {}};
-  for (const auto& m : markers) context.initial.push_back(initial_motion(m));
+  ElementContext context{t, base_, s_.input_files, {}, {}};
+  for (const auto& m : markers) {
+    context.initial.push_back(initial_motion(m));
+    context.marker_bodies.push_back(s_.model.bodies[m.body]->name());
+  }
   std::unique_ptr<ForceElement> e = et.make(context);
   t.finish();
-  if (markers.size() == 2 && markers[0].body == markers[1].body)
+  if (!lists && markers.size() == 2 && markers[0].body == markers[1].body)  // lists: the element checks them
     t.fail(et.marker_keys.back(), "markers i and j are on the same body: a force element connects two bodies");
   for (const auto& f : s_.model.forces)
     if (f.name == name) t.fail("name", "a force, load or driver named '" + name + "' is defined twice");

@@ -11,6 +11,7 @@ const ElementRegistry& builtin_elements() {
     register_bushing(r);
     register_torsional_spring_damper(r);
     register_contact(r);
+    register_point_set_contact(r);
     register_table_force(r);
     register_motor(r);
     register_loads(r);

@@ -9,6 +9,7 @@ void register_maxwell(ElementRegistry&);
 void register_bushing(ElementRegistry&);
 void register_torsional_spring_damper(ElementRegistry&);
 void register_contact(ElementRegistry&);
+void register_point_set_contact(ElementRegistry&);
 void register_table_force(ElementRegistry&);
 void register_motor(ElementRegistry&);
 void register_loads(ElementRegistry&);

@@ -6,6 +6,7 @@
 #include <sstream>
 #include <string>
 
+#include "common/error.hpp"
 #include "common/hdf5.hpp"
 #include "common/log.hpp"
 #include "solve/run.hpp"
@@ -39,6 +40,29 @@ inline Eigen::VectorXd signal(const std::filesystem::path& file, const std::stri
   const h5::File f = h5::File::open_read(file);
   if (c < 0) return f.root().read_vector(path);
   return f.root().read_matrix(path).col(c);
+}
+
+/// The message of the error that parsing a bad scene throws (the scene's file name: bad.toml), or "no error".
+inline std::string scene_error(const std::string& text) {
+  try {
+    parse_scene(text, "bad.toml", ".");
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+/// An (n, 3) or (n, m) dataset.
+inline Eigen::MatrixXd matrix(const std::filesystem::path& file, const std::string& path) {
+  return h5::File::open_read(file).root().read_matrix(path);
+}
+
+/// A number written with all its digits into a scene.
+inline std::string num(double v) {
+  std::ostringstream s;
+  s.precision(17);
+  s << v;
+  return s.str();
 }
 
 }  // namespace nvh::solve::testing

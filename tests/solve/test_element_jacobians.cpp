@@ -26,7 +26,8 @@ namespace {
 
 constexpr double kTolerance = 1e-6;
 
-/// An element built by the registry from the TOML keys of its table, with its markers' initial motion.
+/// An element built by the registry from the TOML keys of its table, with its markers' initial motion; the
+/// markers are on body "a" but the last, on "b" (one marker: on "a").
 struct Built {
   input::Document doc;
   std::unique_ptr<ForceElement> element;
@@ -40,7 +41,9 @@ Built build(const std::string& section, const std::string& type, const std::stri
   Built b{input::Document::parse(keys, type + ".toml"), nullptr};
   const input::Table t = b.doc.root();
   std::vector<std::filesystem::path> files;
-  ElementContext c{t, std::filesystem::path(NVH_SOURCE_DIR) / "testdata/scenes", files, initial};
+  std::vector<std::string> bodies(initial.size(), "a");
+  if (bodies.size() > 1) bodies.back() = "b";
+  ElementContext c{t, std::filesystem::path(NVH_SOURCE_DIR) / "testdata/scenes", files, initial, bodies};
   b.element = et->make(c);
   return b;
 }
@@ -201,27 +204,27 @@ TEST(ElementJacobians, Bushing) {
   for (int n = 0; n < 4; ++n) expect_matches(*diag.element, two_random(rng), "diagonal bushing " + std::to_string(n));
 }
 
-// Contact: i's origin against the plane of j (normal z_j). Velocities are set so that the normal rate is as
-// wanted (the clamp: separating fast enough that 1 + alpha delta' < 0).
-void set_normal_rate(Point& p, double vn) {
-  const MarkerMotion& j = p.markers[1];
-  const Vec3 n = j.axes.col(2), d = p.markers[0].position - j.position;
-  const Vec3 vr = p.markers[0].velocity - j.velocity - j.angular_velocity.cross(d);
-  p.markers[0].velocity += (vn - n.dot(vr)) * n;
+// Contact: a point's origin (marker i = 0) against the plane of j (= 1, normal z_j). Velocities are set so that
+// the normal rate is as wanted (the clamp: separating fast enough that 1 + alpha delta' < 0).
+void set_normal_rate(Point& p, double vn, int i = 0, int plane = 1) {
+  const MarkerMotion& j = p.markers[plane];
+  const Vec3 n = j.axes.col(2), d = p.markers[i].position - j.position;
+  const Vec3 vr = p.markers[i].velocity - j.velocity - j.angular_velocity.cross(d);
+  p.markers[i].velocity += (vn - n.dot(vr)) * n;
 }
-void set_tangential(Point& p, double speed, std::mt19937& rng) {
-  const MarkerMotion& j = p.markers[1];
-  const Vec3 n = j.axes.col(2), d = p.markers[0].position - j.position;
-  const Vec3 vr = p.markers[0].velocity - j.velocity - j.angular_velocity.cross(d);
+void set_tangential(Point& p, double speed, std::mt19937& rng, int i = 0, int plane = 1) {
+  const MarkerMotion& j = p.markers[plane];
+  const Vec3 n = j.axes.col(2), d = p.markers[i].position - j.position;
+  const Vec3 vr = p.markers[i].velocity - j.velocity - j.angular_velocity.cross(d);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   Vec3 t = Vec3(u(rng), u(rng), u(rng));
   t = (t - t.dot(n) * n).normalized();
-  p.markers[0].velocity += speed * t - (vr - vr.dot(n) * n);
+  p.markers[i].velocity += speed * t - (vr - vr.dot(n) * n);
 }
 
-TEST(ElementJacobians, ContactNormalFrictionOpenAndClamp) {
-  // alpha = 3 (1 - e) / (2 v_ref) = 12 s/m: the clamp (fn = 0) for delta' < -1/12 m/s
-  const std::string common = R"(
+// The contact law's keys (contact, point-set-contact): alpha = 3 (1 - e) / (2 v_ref) = 12 s/m, the clamp (fn = 0)
+// for delta' < -1/12 m/s; Stribeck and regularization speeds within the random slip speeds.
+const std::string kContactLaw = R"(
 stiffness = 1.0e6
 exponent = 1.5
 restitution = 0.2
@@ -231,6 +234,9 @@ mu_dynamic = 0.2
 stribeck_speed = 0.2
 regularization_speed = 0.05
 )";
+
+TEST(ElementJacobians, ContactNormalFrictionOpenAndClamp) {
+  const std::string& common = kContactLaw;
   // |d| <= 0.35 along z_j: clearance -0.5 keeps i 0.15 .. 0.85 m deep, +0.5 keeps it open
   const Built in_contact = build("force", "contact", common + "clearance = -0.5\n", {MarkerMotion{}, MarkerMotion{}});
   const Built open = build("force", "contact", common + "clearance = 0.5\n", {MarkerMotion{}, MarkerMotion{}});
@@ -256,6 +262,30 @@ regularization_speed = 0.05
     set_normal_rate(p, 0.5 + 0.4 * u(rng));  // separating fast: 1 + alpha delta' < 0, clamped to fn = 0
     expect_matches(*in_contact.element, p, "contact in the clamp" + tag, false);
     expect_matches(*open.element, two_random(rng), "contact open" + tag, false);
+  }
+}
+
+// Point-set contact: six points (85 columns: more than ElementRows holds) against the plane of j, each at its
+// own gap - in contact sliding, near sticking, without slip, in the clamp, open - so every kind of point's
+// rows and the sum of the reactions on j are checked at once.
+TEST(ElementJacobians, PointSetContactPointsInEveryState) {
+  const Built b = build("force", "point-set-contact", kContactLaw, std::vector<MarkerMotion>(7));
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  // gap of each point (m; < 0 in contact) and its slip speed (m/s); point 5 separates fast (the clamp)
+  const double gap[6] = {-0.2, -0.05, -0.1, -0.15, -0.08, 0.1}, slip[6] = {0.5, 0.02, 1e-5, 0.0, 0.3, 0.7};
+  for (int n = 0; n < 4; ++n) {
+    Point p;
+    for (int k = 0; k < 7; ++k) p.markers.push_back(random_motion(rng));
+    const MarkerMotion& j = p.markers[6];
+    for (int k = 0; k < 6; ++k) {
+      Vec3 t = Vec3(u(rng), u(rng), u(rng));
+      t -= t.dot(j.axes.col(2)) * j.axes.col(2);
+      p.markers[k].position = j.position + gap[k] * j.axes.col(2) + t;
+      set_normal_rate(p, k == 4 ? 0.5 : 0.05 * u(rng), k, 6);
+      set_tangential(p, slip[k], rng, k, 6);
+    }
+    expect_matches(*b.element, p, "point-set contact " + std::to_string(n));
   }
 }
 
@@ -353,6 +383,7 @@ TEST(ElementJacobians, EveryRegisteredTypeIsAnalytic) {
       {"force bushing", "stiffness = [1e5, 2e5, 3e5, 1e3, 2e3, 3e3]\ndamping = [10, 20, 30, 0.1, 0.2, 0.3]\n"},
       {"force torsional-spring-damper", "k = 500.0\nd = 2.0\n"},
       {"force contact", "stiffness = 1e6\nclearance = -0.5\nmu_static = 0.3\n"},
+      {"force point-set-contact", "stiffness = 1e6\nclearance = -0.5\nmu_static = 0.3\n"},
       {"force table-force", "table = [[-1.0, 1e4], [1.0, -1e4]]\n"},
       {"force motor", "table = [[-1000.0, 20.0], [3000.0, -5.0]]\n"},
       {"driver motor", "table = [[-1000.0, 20.0], [3000.0, -5.0]]\n"},
@@ -367,7 +398,10 @@ TEST(ElementJacobians, EveryRegisteredTypeIsAnalytic) {
     seen.insert(name);
     const auto it = keys.find(name);
     ASSERT_NE(it, keys.end()) << name << ": a registered type without keys in this test (add them, and its checks)";
-    std::vector<MarkerMotion> initial(et->marker_keys.size() == 1 && et->marker_keys[0] == "at" ? 1 : 2);
+    // one marker per key, three for a list key (`name[]`, element_registry.hpp)
+    std::size_t markers = 0;
+    for (const auto& key : et->marker_keys) markers += key.ends_with("[]") ? 3 : 1;
+    std::vector<MarkerMotion> initial(markers);
     const Built b = build(et->section, et->name, it->second, initial);
     Point p;
     for (std::size_t k = 0; k < initial.size(); ++k) p.markers.push_back(random_motion(rng));

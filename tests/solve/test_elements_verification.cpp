@@ -22,22 +22,11 @@ namespace nvh::solve {
 namespace {
 
 using testing::run_text;
+using testing::matrix;
+using testing::num;
 using testing::signal;
 constexpr double kPi = std::numbers::pi;
 constexpr double kG = 9.81;
-
-/// A number written with all its digits into a scene.
-std::string num(double v) {
-  std::ostringstream s;
-  s.precision(17);
-  s << v;
-  return s.str();
-}
-
-Eigen::MatrixXd matrix(const std::filesystem::path& file, const std::string& path) {
-  const h5::File f = h5::File::open_read(file);
-  return f.root().read_matrix(path);
-}
 
 /// Largest |measured - expected(t)| over the samples.
 double max_error(const Eigen::VectorXd& t, const Eigen::VectorXd& measured, const std::function<double(double)>& expected) {

@@ -204,14 +204,9 @@ angle0_deg = 10.0
 )"), "torsional spring-damper");
 }
 
-TEST(AnalyticJacobian, ContactWithFrictionInContact) {
-  // marker a.m lies 1 mm beyond the plane of b.m: a negative clearance keeps it in contact at every random state
-  expect_exact(two_bodies(R"(
-[[force]]
-name = "c"
-type = "contact"
-i = "a.m"
-j = "b.m"
+// The contact law's keys (contact and point-set-contact): a negative clearance keeps the points in contact at
+// every random state (marker a.m lies 1 mm beyond the plane of b.m).
+const char* kContactLaw = R"(
 stiffness = 1.0e8
 exponent = 1.5
 restitution = 0.6
@@ -220,7 +215,26 @@ mu_static = 0.3
 mu_dynamic = 0.2
 stribeck_speed = 0.5
 regularization_speed = 1.0
-)"), "contact");
+)";
+
+TEST(AnalyticJacobian, ContactWithFrictionInContact) {
+  expect_exact(two_bodies(std::string("[[force]]\nname = \"c\"\ntype = \"contact\"\ni = \"a.m\"\nj = \"b.m\"\n") + kContactLaw),
+               "contact");
+}
+
+TEST(AnalyticJacobian, PointSetContactWithFriction) {
+  // three points on body a (a.m and two more) against the plane of b.m
+  std::string text = two_bodies(std::string("[[force]]\nname = \"skirt\"\ntype = \"point-set-contact\"\n"
+                                            "points = [\"a.m\", \"a.m2\", \"a.m3\"]\nj = \"b.m\"\n") + kContactLaw);
+  const std::string body_b = "[[body]]\nname = \"b\"";
+  text.insert(text.find(body_b), R"([[body.marker]]
+name = "m2"
+at = [-0.04, 0.03, -0.02]
+[[body.marker]]
+name = "m3"
+at = [0.02, 0.05, 0.01]
+)");
+  expect_exact(text, "point-set contact");
 }
 
 TEST(AnalyticJacobian, TableForceAndMotor) {

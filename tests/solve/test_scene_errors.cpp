@@ -28,14 +28,7 @@ inertia = [0.1, 0.1, 0.1]
 )";
 const std::string kClock = "[clock]\nend_time = 0.01\n";
 
-std::string error_of(const std::string& text) {
-  try {
-    parse_scene(text, "bad.toml", ".");
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "no error";
-}
+std::string error_of(const std::string& text) { return testing::scene_error(text); }
 
 TEST(SolveSceneErrors, UnknownBodyInAJointIsNamedWithASuggestion) {
   const std::string msg = error_of(kBase + "[[joint]]\nname = \"j\"\ntype = \"revolute\"\ni = \"amr.pivot\"\nj = \"ground.a\"\n" + kClock);
