@@ -32,19 +32,24 @@ bool same(const bearing::Kinematics& a, const bearing::Kinematics& b) {
 }  // namespace
 
 const bearing::FilmResult& JournalBearingElement::film(const bearing::Kinematics& k, bearing::Detail detail) const {
-  const bool enough = detail == bearing::Detail::kForces || last_detail_ == bearing::Detail::kFull;
-  if (last_kinematics_ && same(*last_kinematics_, k) && enough) return last_result_;
-  last_detail_ = detail;
+  for (int n : {newest_, 1 - newest_}) {
+    const CachedFilm& c = cache_[n];
+    const bool enough = detail == bearing::Detail::kForces || c.detail == bearing::Detail::kFull;
+    if (c.kinematics && same(*c.kinematics, k) && enough) return c.result;
+  }
+  newest_ = 1 - newest_;  // overwrite the older entry
+  CachedFilm& c = cache_[newest_];
+  c.detail = detail;
   try {
-    last_result_ = bearing_.evaluate(k, detail);
+    c.result = bearing_.evaluate(k, detail);
   } catch (const Error&) {
     // |e| >= c or no convergence: a non-finite force makes the integrator cut its step.
-    last_result_ = bearing::FilmResult{};
-    last_result_.force.setConstant(std::numeric_limits<double>::quiet_NaN());
-    last_result_.torque_journal = std::numeric_limits<double>::quiet_NaN();
+    c.result = bearing::FilmResult{};
+    c.result.force.setConstant(std::numeric_limits<double>::quiet_NaN());
+    c.result.torque_journal = std::numeric_limits<double>::quiet_NaN();
   }
-  last_kinematics_ = k;
-  return last_result_;
+  c.kinematics = k;
+  return c.result;
 }
 
 const bearing::FilmResult& JournalBearingElement::film(const MarkerMotion& i, const MarkerMotion& j,
@@ -67,12 +72,15 @@ bool JournalBearingElement::jacobian(const ElementInput& in, ElementJacobian& ja
   const Vec3 x = j.axes.col(0), y = j.axes.col(1), z = j.axes.col(2);
   const Vec3 d = i.position - j.position, dd = i.velocity - j.velocity;
 
-  // G: d(Fx, Fy, Tj) / d(ex, ey, ex', ey', omega_journal, omega_shell).
+  // G: d(Fx, Fy, Tj) / d(ex, ey, ex', ey', omega_journal, omega_shell). The finite bearing gives all of it
+  // (implicit function theorem on its converged film: no further film solve); for the closed forms the
+  // torque and the speed columns are differenced here, a few cheap evaluations.
   Eigen::Matrix<double, 3, 6> g = Eigen::Matrix<double, 3, 6>::Zero();
   g.topLeftCorner<2, 4>() = r0.jacobian;
   const double c = bearing_.spec().radial_clearance;
   const double omega_scale = std::max({1.0, std::abs(k0.omega_journal), std::abs(k0.omega_shell)});
-  for (int col = 0; col < 6; ++col) {
+  if (r0.has_full_jacobian) g = r0.full_jacobian;
+  for (int col = 0; col < 6 && !r0.has_full_jacobian; ++col) {
     bearing::Kinematics k = k0;
     double* v = col < 2 ? &k.e[col] : col < 4 ? &k.e_dot[col - 2] : col == 4 ? &k.omega_journal : &k.omega_shell;
     const double step = col < 2 ? 1e-7 * c : col < 4 ? 1e-7 * (c * omega_scale + k0.e_dot.norm()) : 1e-7 * omega_scale;
@@ -106,7 +114,7 @@ bool JournalBearingElement::jacobian(const ElementInput& in, ElementJacobian& ja
   dt.leftCols<24>() = z * dfilm.row(2);
   dt.block<3, 3>(0, 15) -= r0.torque_journal * skew(z);
   jacobian_at_i(in, jac, df, dt, force);
-  film(k0, bearing::Detail::kForces);  // leave the cache (and the warm start) at this state
+  if (!r0.has_full_jacobian) film(k0, bearing::Detail::kForces);  // leave the cache (and warm start) here
   return true;
 }
 

@@ -58,9 +58,15 @@ class JournalBearingElement final : public ForceElement {
 
  private:
   mutable bearing::JournalBearing bearing_;  // mutable: the finite model's warm-start state
-  mutable std::optional<bearing::Kinematics> last_kinematics_;
-  mutable bearing::FilmResult last_result_;
-  mutable bearing::Detail last_detail_ = bearing::Detail::kForces;
+  // The last two film results: the model's Jacobian perturbs a body and returns to the state before (the
+  // radial direction of Euler parameters is differenced), and the second entry turns that return into a hit.
+  struct CachedFilm {
+    std::optional<bearing::Kinematics> kinematics;
+    bearing::FilmResult result;
+    bearing::Detail detail = bearing::Detail::kForces;
+  };
+  mutable CachedFilm cache_[2];
+  mutable int newest_ = 0;  // index of the most recent entry of cache_
 };
 
 

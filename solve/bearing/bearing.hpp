@@ -91,6 +91,11 @@ struct FilmResult {
   double power_loss = 0;          ///< W, mechanical power into the film: -(Tj wj + Ts ws + F . de/dt)
   /// d(force)/d(ex, ey, ex_dot, ey_dot): columns 0-1 in N/m, 2-3 in N s/m.
   Eigen::Matrix<double, 2, 4> jacobian = Eigen::Matrix<double, 2, 4>::Zero();
+  /// When `has_full_jacobian` (the finite bearing, by the implicit function theorem): d(Fx, Fy, torque_journal)
+  /// / d(ex, ey, ex_dot, ey_dot, omega_journal, omega_shell), N/m, N s/m, N s/rad; N m/m, N m s/m, N m s/rad.
+  /// Closed-form models leave it empty: their users difference the torque and the speeds, which is cheap.
+  bool has_full_jacobian = false;
+  Eigen::Matrix<double, 3, 6> full_jacobian = Eigen::Matrix<double, 3, 6>::Zero();
   int iterations = 0;  ///< finite bearing: Newton iterations of this evaluation (0 for closed forms)
 };
 

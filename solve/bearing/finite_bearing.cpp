@@ -187,22 +187,33 @@ FilmResult FiniteBearing::post_process(const Kinematics& k, const FilmAssembly& 
   return r;
 }
 
-// d(force)/d(q), q = (ex, ey, ex_dot, ey_dot): J du/dq = -dG/dq with G = (M, Phi); Phi does not depend on q,
-// so the reduced system takes -dM/dq as its right-hand side. Then dF/dq = -sum p_ref dP/dq n dA.
+// d(force)/d(q), q = (ex, ey, ex_dot, ey_dot, wm) with wm = (omega_journal + omega_shell) / 2: J du/dq = -dG/dq
+// with G = (M, Phi); Phi does not depend on q, so the reduced system takes -dM/dq as its right-hand side. Then
+// dF/dq = -sum p_ref dP/dq n dA, and the torque's derivative from its sum below (post_process). The scale
+// omega_ref is held fixed: the dimensional solution does not depend on it (P p_ref, the supply pressure and
+// the Barus coefficient scale together), so d/dwm at fixed omega_ref is the physical derivative.
 void FiniteBearing::parameter_jacobian(const FilmAssembly& a, FilmResult& result) {
-  dP_dq_.resize(n_, 4);
-  dr_dq_.resize(n_, 4);
+  constexpr int kParameters = 5;
+  dP_dq_.resize(n_, kParameters);
+  dr_dq_.resize(n_, kParameters);
   const double c = spec_.radial_clearance, R = spec_.radius();
   const bool jfo = spec_.cavitation == Cavitation::kJfo;
   const FilmProblem& f = film_.problem;
   auto fluidity = [&](double p) { return f.barus > 0 && p > 0 ? std::exp(-f.barus * p) : 1.0; };
   const double area = dtheta_ * dz_;
-  for (int q = 0; q < 4; ++q) {
+  for (int q = 0; q < kParameters; ++q) {
     Eigen::VectorXd dM = Eigen::VectorXd::Zero(n_);
     for (int k = 0; k < nz_; ++k) {
       const int row = nt_ * k;
       for (int i = 0; i < nt_; ++i) {
-        if (q < 2) {  // position: the film thickness changes, dH/de = -n / c
+        if (q == 4) {  // mean speed: the wedge (Couette) flux through each east face, d(couette)/d(wm) = 1/omega_ref
+          const int w = row + i, e = row + (i + 1) % nt_;
+          const int up = f.couette >= 0 ? w : e;
+          const double fill = jfo ? 1 - r_[up] : 1.0;
+          const double dF = f.h_east[i] * fill * dz_ / omega_ref_;
+          dM[w] += dF;
+          dM[e] -= dF;
+        } else if (q < 2) {  // position: the film thickness changes, dH/de = -n / c
           const double dHf = -(q == 0 ? cos_f_[i] : sin_f_[i]) / c;
           const double dHc = -(q == 0 ? cos_c_[i] : sin_c_[i]) / c;
           const int w = row + i, e = row + (i + 1) % nt_;
@@ -250,16 +261,58 @@ void FiniteBearing::parameter_jacobian(const FilmAssembly& a, FilmResult& result
       const int i = m % nt_;
       dF -= p_ref_ * dP * R * R * area * Eigen::Vector2d(cos_c_[i], sin_c_[i]);
     }
-    result.jacobian.col(q) = dF;
+    if (q < 4) result.jacobian.col(q) = dF;
+    result.full_jacobian.block<2, 1>(0, q < 4 ? q : 4) = dF;
   }
+  torque_jacobian(result);
   has_sensitivity_ = true;
+}
+
+// d(torque_journal)/d(q) of the sum in post_process, T = sum R dA (mu (Us - Uj) / h fill - h/2 dp/dx), through
+// p, r (the sensitivities above), h (position columns: dh/de = -n) and, for the speeds, U = R omega directly.
+// Columns of full_jacobian: ex, ey, ex_dot, ey_dot, omega_journal, omega_shell; the film depends on the
+// speeds through wm only, so d/domega_journal = d/domega_shell = 1/2 d/dwm plus the direct shear term.
+void FiniteBearing::torque_jacobian(FilmResult& result) const {
+  const double R = spec_.radius(), c = spec_.radial_clearance, mu0 = spec_.viscosity;
+  const bool jfo = spec_.cavitation == Cavitation::kJfo;
+  const FilmProblem& f = film_.problem;
+  const double dA = R * R * dtheta_ * dz_;
+  const double dU = R * (kinematics_of_solution_.omega_shell - kinematics_of_solution_.omega_journal);
+  Eigen::Matrix<double, 1, 5> dT = Eigen::Matrix<double, 1, 5>::Zero();
+  double shear_by_speed = 0;  // d/d(Us - Uj) of the Couette part, per unit of R
+  for (int m = 0; m < n_; ++m) {
+    const int i = m % nt_;
+    const double p = p_ref_ * P_[m];
+    const double h = c * f.h_centre[i];
+    const bool piezo = spec_.barus > 0 && p > 0;
+    const double mu = piezo ? mu0 * std::exp(spec_.barus * p) : mu0;
+    const double fill = jfo ? 1 - r_[m] : 1.0;
+    const int e = film_.neighbours(m)[FilmSolver::kEast], w = film_.neighbours(m)[FilmSolver::kWest];
+    const double dpdx = p_ref_ * (P_[e] - P_[w]) / (2 * R * dtheta_);
+    shear_by_speed += R * dA * mu / h * fill;
+    for (int q = 0; q < 5; ++q) {
+      const double dp = p_ref_ * dP_dq_(m, q);
+      const double dfill = jfo ? -dr_dq_(m, q) : 0.0;
+      const double ddpdx = p_ref_ * (dP_dq_(e, q) - dP_dq_(w, q)) / (2 * R * dtheta_);
+      const double dh = q < 2 ? -(q == 0 ? cos_c_[i] : sin_c_[i]) : 0.0;
+      const double dmu = piezo ? spec_.barus * mu * dp : 0.0;
+      dT[q] += R * dA * (dU / h * (dmu * fill + mu * dfill - mu * fill * dh / h) - 0.5 * (dh * dpdx + h * ddpdx));
+    }
+  }
+  result.full_jacobian.block<1, 4>(2, 0) = dT.head<4>();
+  result.full_jacobian(2, 4) = 0.5 * dT[4] - R * shear_by_speed;
+  result.full_jacobian(2, 5) = 0.5 * dT[4] + R * shear_by_speed;
+  result.full_jacobian.block<2, 1>(0, 5) = 0.5 * result.full_jacobian.block<2, 1>(0, 4);
+  result.full_jacobian.block<2, 1>(0, 4) = result.full_jacobian.block<2, 1>(0, 5);
+  result.has_full_jacobian = true;
 }
 
 // Tangent predictor: the last solution moved along its sensitivities to the new (e, de/dt), projected onto
 // p >= 0, r >= 0. Exact to first order while the cavitation boundary stays in its cells.
 void FiniteBearing::predict(const Kinematics& k) {
-  Eigen::Vector4d dq;
-  dq << k.e - kinematics_of_solution_.e, k.e_dot - kinematics_of_solution_.e_dot;
+  const auto wm = [](const Kinematics& m) { return 0.5 * (m.omega_journal + m.omega_shell); };
+  Eigen::Matrix<double, 5, 1> dq;
+  dq << k.e - kinematics_of_solution_.e, k.e_dot - kinematics_of_solution_.e_dot, wm(k) - wm(kinematics_of_solution_);
   P_ = (P_ + dP_dq_ * dq).cwiseMax(0.0);
   r_ = (r_ + dr_dq_ * dq).cwiseMax(0.0);
 }

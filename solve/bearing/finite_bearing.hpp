@@ -58,6 +58,7 @@ class FiniteBearing {
   void set_motion(const Kinematics& k);
   FilmResult post_process(const Kinematics& k, const FilmAssembly& a) const;
   void parameter_jacobian(const FilmAssembly& a, FilmResult& result);
+  void torque_jacobian(FilmResult& result) const;
   void predict(const Kinematics& k);
 
   BearingSpec spec_;

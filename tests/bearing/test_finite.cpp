@@ -206,6 +206,45 @@ TEST(bearing_finite, JacobianMatchesDifferencesOfSolves) {
   }
 }
 
+// The whole Jacobian the journal-bearing element uses: d(Fx, Fy, torque_journal) / d(ex, ey, ex_dot, ey_dot,
+// omega_journal, omega_shell) by the implicit function theorem, against central differences of solves
+// (JFO and Swift-Stieber with a feed hole; JFO with Barus viscosity).
+TEST(bearing_finite, FullJacobianWithTorqueAndSpeedsMatchesDifferencesOfSolves) {
+  for (int variant = 0; variant < 3; ++variant) {
+    BearingSpec spec = fed_bearing(variant == 1 ? Cavitation::kSwiftStieber : Cavitation::kJfo);
+    if (variant == 2) spec.barus = 2e-8;  // 1/Pa
+    FiniteBearing b(spec);
+    Kinematics k;
+    k.e = {0.2 * 40e-6, -0.6 * 40e-6};
+    k.e_dot = {1e-4, -2e-4};
+    k.omega_journal = 300;
+    k.omega_shell = 20;
+    const FilmResult r = b.evaluate(k);
+    ASSERT_TRUE(r.has_full_jacobian);
+    EXPECT_TRUE((r.full_jacobian.block<2, 4>(0, 0) == r.jacobian));
+    double worst = 0;
+    for (int q = 0; q < 6; ++q) {
+      const double h = q < 2 ? 1e-9 : q < 4 ? 1e-7 : 1e-3;
+      Kinematics plus = k, minus = k;
+      double* p = q < 2 ? &plus.e[q] : q < 4 ? &plus.e_dot[q - 2] : q == 4 ? &plus.omega_journal : &plus.omega_shell;
+      double* m = q < 2 ? &minus.e[q] : q < 4 ? &minus.e_dot[q - 2] : q == 4 ? &minus.omega_journal : &minus.omega_shell;
+      *p += h, *m -= h;
+      const FilmResult a = b.evaluate(plus), c = b.evaluate(minus);
+      const Eigen::Vector3d d = (Eigen::Vector3d(a.force.x(), a.force.y(), a.torque_journal) -
+                                 Eigen::Vector3d(c.force.x(), c.force.y(), c.torque_journal)) / (2 * h);
+      const Eigen::Vector3d analytic = r.full_jacobian.col(q);
+      // the force rows against the column's force scale, the torque row against its own
+      const double ef = (d.head<2>() - analytic.head<2>()).norm() / analytic.head<2>().norm();
+      const double et = std::abs(d.z() - analytic.z()) / std::abs(analytic.z());
+      EXPECT_LT(ef, 1e-3) << "variant " << variant << ", force, column " << q;
+      EXPECT_LT(et, 1e-3) << "variant " << variant << ", torque, column " << q;
+      worst = std::max({worst, ef, et});
+    }
+    std::printf("measured: finite bearing, variant %d: worst relative error of the full Jacobian %.2e\n", variant,
+                worst);
+  }
+}
+
 TEST(bearing_finite, WarmStartGivesTheColdSolution) {
   FiniteBearing warm(fed_bearing(Cavitation::kJfo));
   Kinematics k;

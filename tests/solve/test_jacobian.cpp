@@ -312,6 +312,35 @@ viscosity = 0.01
   }
 }
 
+TEST(AnalyticJacobian, JournalBearingFiniteModel) {
+  // The finite (JFO) bearing: its whole film Jacobian by the implicit function theorem, no differences inside
+  // the element. This checks the assembly into the model (kinematics, both markers); the film's own columns
+  // (the torque's and the speeds' among them, small against a body's inertia rows here) are checked one by one
+  // in tests/bearing/test_finite.cpp, FullJacobianWithTorqueAndSpeedsMatchesDifferencesOfSolves.
+  std::string text = two_bodies(R"(
+[[force]]
+name = "jb"
+type = "journal-bearing"
+i = "a.m"
+j = "b.m"
+model = "finite"
+grid = [40, 10]
+diameter = 0.05
+width = 0.02
+radial_clearance = 5.0e-3
+viscosity = 0.01
+)");
+  text.replace(text.find("position = [0.15, 0.25, 0.02]"), 29, "position = [0.1, 0.2, 0.0]");
+  text.replace(text.find("at = [-0.03, 0.01, 0.04]"), 24, "at = [0.05, -0.02, 0.03]");
+  text.replace(text.find("orientation = [0.9, 0.1, 0.2, 0.3]"), 34, "");
+  text.replace(text.find("z = [0.1, -0.2, 1.0]"), 20, "z = [0.2, 0.3, 1.0]");
+  for (unsigned seed : {1u, 2u, 3u}) {
+    Scene s = scene_of(text);
+    const Comparison c = compare(s, seed, 0.02);
+    EXPECT_LT(c.worst, 1e-5) << "finite journal bearing (seed " << seed << "): worst at " << c.where;
+  }
+}
+
 std::string jointed(const std::string& joint) {
   return two_bodies(R"(
 [[joint]]
