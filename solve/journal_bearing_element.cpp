@@ -11,7 +11,18 @@
 
 namespace nvh::solve {
 
-JournalBearingElement::JournalBearingElement(bearing::BearingSpec spec) : bearing_(std::move(spec)) {}
+namespace {
+// In a time integration successive film states are close: the finite film's Newton steps may reuse an
+// earlier factorization (FiniteSolverOptions::reuse_factorization); jacobian() asks for the exact one.
+bearing::FiniteSolverOptions film_options() {
+  bearing::FiniteSolverOptions o;
+  o.reuse_factorization = true;
+  return o;
+}
+}  // namespace
+
+JournalBearingElement::JournalBearingElement(bearing::BearingSpec spec)
+    : bearing_(std::move(spec), film_options()) {}
 
 bearing::Kinematics JournalBearingElement::kinematics(const MarkerMotion& i, const MarkerMotion& j) {
   const Vec3 d = i.position - j.position, d_dot = i.velocity - j.velocity;
@@ -31,24 +42,48 @@ bool same(const bearing::Kinematics& a, const bearing::Kinematics& b) {
 }
 }  // namespace
 
-const bearing::FilmResult& JournalBearingElement::film(const bearing::Kinematics& k, bearing::Detail detail) const {
+JournalBearingElement::CachedFilm* JournalBearingElement::cached(const bearing::Kinematics& k,
+                                                                 bearing::Detail detail) const {
   for (int n : {newest_, 1 - newest_}) {
-    const CachedFilm& c = cache_[n];
+    CachedFilm& c = cache_[n];
     const bool enough = detail == bearing::Detail::kForces || c.detail == bearing::Detail::kFull;
-    if (c.kinematics && same(*c.kinematics, k) && enough) return c.result;
+    if (c.kinematics && same(*c.kinematics, k) && enough) return &c;
   }
+  return nullptr;
+}
+
+namespace {
+bearing::FilmResult failed_film() {  // |e| >= c or no convergence: a non-finite force makes IDA cut its step
+  bearing::FilmResult r;
+  r.force.setConstant(std::numeric_limits<double>::quiet_NaN());
+  r.torque_journal = std::numeric_limits<double>::quiet_NaN();
+  return r;
+}
+}  // namespace
+
+const bearing::FilmResult& JournalBearingElement::film(const bearing::Kinematics& k, bearing::Detail detail) const {
+  if (const CachedFilm* c = cached(k, detail)) return c->result;
   newest_ = 1 - newest_;  // overwrite the older entry
   CachedFilm& c = cache_[newest_];
   c.detail = detail;
   try {
     c.result = bearing_.evaluate(k, detail);
   } catch (const Error&) {
-    // |e| >= c or no convergence: a non-finite force makes the integrator cut its step.
-    c.result = bearing::FilmResult{};
-    c.result.force.setConstant(std::numeric_limits<double>::quiet_NaN());
-    c.result.torque_journal = std::numeric_limits<double>::quiet_NaN();
+    c.result = failed_film();
   }
   c.kinematics = k;
+  return c.result;
+}
+
+const bearing::FilmResult& JournalBearingElement::film_with_jacobian(const bearing::Kinematics& k) const {
+  const bearing::FilmResult& r = film(k, bearing::Detail::kForces);
+  if (!bearing_.finite() || r.has_full_jacobian || !r.force.allFinite()) return r;
+  CachedFilm& c = *cached(k, bearing::Detail::kForces);  // the entry film() just returned
+  try {
+    c.result = bearing_.evaluate_with_jacobian(k, c.detail);
+  } catch (const Error&) {
+    c.result = failed_film();
+  }
   return c.result;
 }
 
@@ -67,7 +102,7 @@ void JournalBearingElement::evaluate(const ElementInput& in, ElementOutput& out)
 bool JournalBearingElement::jacobian(const ElementInput& in, ElementJacobian& jac) const {
   const MarkerMotion &i = in.markers[0], &j = in.markers[1];
   const bearing::Kinematics k0 = kinematics(i, j);
-  const bearing::FilmResult r0 = film(k0, bearing::Detail::kForces);
+  const bearing::FilmResult r0 = film_with_jacobian(k0);
   if (!r0.force.allFinite()) return false;
   const Vec3 x = j.axes.col(0), y = j.axes.col(1), z = j.axes.col(2);
   const Vec3 d = i.position - j.position, dd = i.velocity - j.velocity;

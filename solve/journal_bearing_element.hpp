@@ -65,6 +65,9 @@ class JournalBearingElement final : public ForceElement {
     bearing::FilmResult result;
     bearing::Detail detail = bearing::Detail::kForces;
   };
+  CachedFilm* cached(const bearing::Kinematics& k, bearing::Detail detail) const;
+  /// The film result with the finite model's Jacobian exact at this state (it may refactorize once).
+  const bearing::FilmResult& film_with_jacobian(const bearing::Kinematics& k) const;
   mutable CachedFilm cache_[2];
   mutable int newest_ = 0;  // index of the most recent entry of cache_
 };

@@ -97,6 +97,7 @@ struct FilmResult {
   bool has_full_jacobian = false;
   Eigen::Matrix<double, 3, 6> full_jacobian = Eigen::Matrix<double, 3, 6>::Zero();
   int iterations = 0;  ///< finite bearing: Newton iterations of this evaluation (0 for closed forms)
+  int factorizations = 0;  ///< finite bearing: of them, the ones that factorized (the rest reused one)
 };
 
 /// Throws nvh::Error if the spec is not usable (clearance <= 0, viscosity <= 0, ...), naming the field.

@@ -62,6 +62,8 @@ struct FilmSolver::Linear {
   Eigen::SparseMatrix<double> A;
   std::vector<int> value_index;  // cell * 5 + slot -> index into A.valuePtr() (-1: absent)
   KluLu lu;
+  bool factored = false;
+  std::vector<char> factor_primary;  // primary_is_p of the factorized matrix (the unknowns it is for)
 };
 
 FilmSolver::FilmSolver() = default;
@@ -256,7 +258,7 @@ double FilmSolver::merit(const FilmAssembly& a) const {
 // One Newton step: J_MP dP + J_MR dr = -M and ap dP + ar dr = -Phi per cell. Each cell keeps the unknown
 // whose complementarity coefficient is smaller and eliminates the other (the larger coefficient is
 // >= 1 - 1/sqrt(2)).
-void FilmSolver::reduce(FilmAssembly& a, Eigen::VectorXd& rhs) {
+void FilmSolver::reduce(FilmAssembly& a, Eigen::VectorXd& rhs, bool matrix) {
   const int n = cells();
   const std::vector<char>& supply = problem.supply;
   a.primary_is_p.resize(n);
@@ -265,7 +267,7 @@ void FilmSolver::reduce(FilmAssembly& a, Eigen::VectorXd& rhs) {
   rhs.resize(n);
   for (int m = 0; m < n; ++m) {
     if (supply[m]) {  // P = supply, r = 0 held: identity row
-      for (int s = 0; s < 5; ++s)
+      for (int s = 0; s < 5 && matrix; ++s)
         if (linear_->value_index[m * 5 + s] >= 0)
           values[linear_->value_index[m * 5 + s]] = s == kSelf ? 1 : 0;
       rhs[m] = 0;
@@ -274,21 +276,29 @@ void FilmSolver::reduce(FilmAssembly& a, Eigen::VectorXd& rhs) {
     double b = -a.M[m];
     for (int s = 0; s < 5; ++s) {
       const int j = neighbour_[m][s];
-      if (j < 0) continue;
-      double v = 0;
-      if (!supply[j]) {
-        if (a.primary_is_p[j]) {
-          v = a.JP[m][s] - a.JR[m][s] * a.ap[j] / a.ar[j];
-          b += a.JR[m][s] * a.Phi[j] / a.ar[j];
-        } else {
-          v = a.JR[m][s] - a.JP[m][s] * a.ar[j] / a.ap[j];
-          b += a.JP[m][s] * a.Phi[j] / a.ap[j];
-        }
+      if (j < 0 || supply[j]) {
+        if (j >= 0 && matrix) values[linear_->value_index[m * 5 + s]] = 0;
+        continue;
       }
-      values[linear_->value_index[m * 5 + s]] = v;
+      if (a.primary_is_p[j]) {
+        b += a.JR[m][s] * a.Phi[j] / a.ar[j];
+        if (matrix) values[linear_->value_index[m * 5 + s]] = a.JP[m][s] - a.JR[m][s] * a.ap[j] / a.ar[j];
+      } else {
+        b += a.JP[m][s] * a.Phi[j] / a.ap[j];
+        if (matrix) values[linear_->value_index[m * 5 + s]] = a.JR[m][s] - a.JP[m][s] * a.ar[j] / a.ap[j];
+      }
     }
     rhs[m] = b;
   }
+}
+
+bool FilmSolver::factorize_reduced(const FilmAssembly& a) {
+  linear_->factored = false;
+  ++factorizations_;
+  if (!linear_->lu.factorize(linear_->A)) return false;
+  linear_->factored = true;
+  linear_->factor_primary = a.primary_is_p;
+  return true;
 }
 
 void FilmSolver::cold_start(Eigen::VectorXd& P, Eigen::VectorXd& r) {
@@ -302,7 +312,8 @@ void FilmSolver::cold_start(Eigen::VectorXd& P, Eigen::VectorXd& r) {
   FilmAssembly a;
   assemble(P, r, true, a, /*linear=*/true);
   Eigen::VectorXd rhs;
-  reduce(a, rhs);
+  reduce(a, rhs, true);
+  linear_->factored = false;  // the full-film matrix: not one for simplified steps
   if (!linear_->lu.factorize(linear_->A)) return;  // keep the zero start
   Eigen::VectorXd d = rhs;
   linear_->lu.solve(d);
@@ -326,12 +337,25 @@ int FilmSolver::solve(Eigen::VectorXd& P, Eigen::VectorXd& r, const FiniteSolver
   // discrete equations are linear in (P, r) for a given set (isoviscous). If it has not converged after
   // options.active_set_iterations, Fischer-Burmeister with line search (globally convergent) takes over.
   min_complementarity_ = true;
+  // Simplified steps (an older factorization) while allowed; a step that contracts too little ends them.
+  bool chord_allowed = options.reuse_factorization;
+  double last_chord_step = 0;
+  factorizations_ = 0;
+  Eigen::VectorXd y(n), Pt(n), rt(n);
+  FilmAssembly trial;
   for (; iteration < options.max_iterations && !converged; ++iteration) {
     if (iteration == options.active_set_iterations) min_complementarity_ = false;
     assemble(P, r, true, a);
-    reduce(a, rhs);
-    if (!linear_->lu.factorize(linear_->A)) break;
-    Eigen::VectorXd y = rhs;
+    // A simplified step needs only the right-hand side: the reduced matrix is the factorized one's.
+    bool chord = chord_allowed && min_complementarity_ && linear_->factored;
+    reduce(a, rhs, !chord);
+    if (chord && a.primary_is_p != linear_->factor_primary) {
+      chord = false;
+      reduce(a, rhs, true);  // another active set: the factorized matrix is for other unknowns
+    }
+    if (!chord && !factorize_reduced(a)) break;
+    last_factorized_ = !chord;
+    y = rhs;
     linear_->lu.solve(y);
     for (int m = 0; m < n; ++m) {
       if (problem.supply[m]) {
@@ -348,10 +372,10 @@ int FilmSolver::solve(Eigen::VectorXd& P, Eigen::VectorXd& r, const FiniteSolver
     // A step below the tolerance is the last: the state is at the solution up to round-off.
     const double f0 = merit(a);
     double t = 1;
-    FilmAssembly trial;
     double f1 = f0;
     for (int ls = 0; ls < 30 && step >= options.tolerance; ++ls) {
-      assemble(P + t * dP, r + t * dr, false, trial);
+      Pt = P + t * dP, rt = r + t * dr;
+      assemble(Pt, rt, false, trial);
       f1 = merit(trial);
       // Active-set steps are taken whole (their merit need not decrease while the set is being found).
       if (min_complementarity_ || f1 <= (1 - 1e-4 * t) * f0 || f0 < 1e-28) break;
@@ -364,13 +388,28 @@ int FilmSolver::solve(Eigen::VectorXd& P, Eigen::VectorXd& r, const FiniteSolver
     // right), when a full step shows a contraction step_k <= C step_{k-1}^2 that puts the next step,
     // C step_k^2, below the tolerance. (Not in the Fischer-Burmeister phase: its convergence near
     // degenerate cells can be linear.)
+    // A simplified step converges linearly: only the step and residual tests apply to it, and a step that
+    // has not contracted by chord_contraction since the last one sends the next step to a factorization.
     const double contraction = last_step > 0 ? step / (last_step * last_step) : 1e300;
     converged = step < options.tolerance || (t == 1 && std::sqrt(2 * f1) < options.tolerance * 1e-3) ||
-                (min_complementarity_ && t == 1 && step < 1e-3 && step < 0.1 * last_step &&
+                (!chord && min_complementarity_ && t == 1 && step < 1e-3 && step < 0.1 * last_step &&
                  contraction * step * step < options.tolerance);
-    last_step = t == 1 ? step : 0.0;
+    if (chord && last_chord_step > 0 && step > options.chord_contraction * last_chord_step) chord_allowed = false;
+    last_chord_step = chord ? step : 0.0;
+    last_step = t == 1 && !chord ? step : 0.0;
   }
   return converged ? iteration : -iteration;
+}
+
+bool FilmSolver::factorize_at(const Eigen::VectorXd& P, const Eigen::VectorXd& r) {
+  if (!linear_) build_pattern();
+  min_complementarity_ = true;
+  assemble(P, r, true, last_);
+  Eigen::VectorXd rhs;
+  reduce(last_, rhs, true);
+  if (!factorize_reduced(last_)) return false;
+  last_factorized_ = true;
+  return true;
 }
 
 void FilmSolver::solve_last(Eigen::VectorXd& b) {

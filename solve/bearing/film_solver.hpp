@@ -41,6 +41,13 @@ struct FiniteSolverOptions {
   /// Newton steps in the active-set form min(p, r) = 0 before Fischer-Burmeister takes over.
   int active_set_iterations = 12;
   bool jacobian = true;  ///< finite bearing: compute d(force)/d(e, de/dt)
+  /// Simplified Newton across calls: while the cells keep their primary unknowns (the same active set) and
+  /// the steps contract by at least `chord_contraction`, a step reuses the factorization of an earlier state
+  /// instead of refactorizing (the residual is always the current one, so the solution is the same to the
+  /// tolerance). A time integration calls with states close together, where the refactorization is most of
+  /// the cost. Sensitivities (the Jacobian) then need `FiniteBearing::refresh_jacobian`.
+  bool reuse_factorization = false;
+  double chord_contraction = 0.25;
 };
 
 /// The grid and coefficients of one film problem (nondimensional). The grid part (sizes, periodic_x,
@@ -102,6 +109,14 @@ class FilmSolver {
                 bool linear = false) const;
   /// The assembly of the last Newton step (its factorization is the one solve_last() uses).
   const FilmAssembly& last_step() const { return last_; }
+  /// True when the factorization solve_last() uses was made at the last step's state (a Newton step, not a
+  /// simplified one with an older factorization).
+  bool last_step_was_factorized() const { return last_factorized_; }
+  /// Numeric factorizations made by the last solve() (fewer than its iterations with reuse_factorization).
+  int factorizations() const { return factorizations_; }
+  /// Assembles and factorizes at (P, r) (min form of the complementarity), so that last_step() and
+  /// solve_last() belong to this state. False if the matrix is singular.
+  bool factorize_at(const Eigen::VectorXd& P, const Eigen::VectorXd& r);
   /// b <- A^-1 b with the reduced matrix of the last Newton step (for sensitivities).
   void solve_last(Eigen::VectorXd& b);
   /// Stencil of cell m: self, east, west, north, south (-1: none).
@@ -112,10 +127,15 @@ class FilmSolver {
   struct Linear;
   void build_pattern();
   double merit(const FilmAssembly& a) const;
-  void reduce(FilmAssembly& a, Eigen::VectorXd& rhs);
+  /// The reduced Newton system at `a`: the right-hand side, and the matrix's values when `matrix`.
+  void reduce(FilmAssembly& a, Eigen::VectorXd& rhs, bool matrix);
+  /// Factorizes the reduced matrix (of `a`'s unknowns); false if singular.
+  bool factorize_reduced(const FilmAssembly& a);
 
   std::vector<std::array<int, 5>> neighbour_;
   bool min_complementarity_ = false;  // this Newton iteration: min(P, r) = 0 instead of Fischer-Burmeister
+  bool last_factorized_ = false;      // see last_step_was_factorized()
+  int factorizations_ = 0;            // see factorizations()
   FilmAssembly last_;
   std::unique_ptr<Linear> linear_;
 };

@@ -135,15 +135,27 @@ FilmResult FiniteBearing::evaluate(const Kinematics& k) {
     throw Error(msg.str());
   }
   has_solution_ = true;
-  has_sensitivity_ = false;
   p_ref_of_solution_ = p_ref_;
   kinematics_of_solution_ = k;
   FilmAssembly final_state;
   film_.assemble(P_, r_, false, final_state);
   FilmResult result = post_process(k, final_state);
   result.iterations = iterations;
+  result.factorizations = film_.factorizations();
   // The last factorization belongs to the state one (tiny) step before: within the tolerance of the solution.
-  if (options_.jacobian) parameter_jacobian(film_.last_step(), result);
+  // After a simplified step it belongs to an older state: then the sensitivities of the last factorized
+  // solution stay for the predictor, and the result carries no Jacobian (evaluate_with_jacobian gives one).
+  if (options_.jacobian && film_.last_step_was_factorized()) parameter_jacobian(film_.last_step(), result);
+  return result;
+}
+
+FilmResult FiniteBearing::evaluate_with_jacobian(const Kinematics& k) {
+  FilmResult result = evaluate(k);
+  if (!options_.jacobian || result.has_full_jacobian) return result;
+  if (!film_.factorize_at(P_, r_))
+    throw Error("bearing '" + spec_.name + "': the film's Newton matrix is singular at the solution");
+  ++result.factorizations;
+  parameter_jacobian(film_.last_step(), result);
   return result;
 }
 

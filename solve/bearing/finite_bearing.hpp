@@ -41,6 +41,10 @@ class FiniteBearing {
   /// Solve the film for this motion, warm-started from the previous solution (if any).
   /// Throws nvh::Error if |e| >= c or if Newton does not converge.
   FilmResult evaluate(const Kinematics& k);
+  /// As evaluate, with the Jacobian (`jacobian`, `full_jacobian`) exact at the solution also when the
+  /// options reuse factorizations (then the last step may have used an older one): it factorizes at the
+  /// solution if needed. Without reuse_factorization the same as evaluate.
+  FilmResult evaluate_with_jacobian(const Kinematics& k);
   /// Forget the previous solution: the next evaluation starts cold (full-film linear solve, clipped).
   void reset() { has_solution_ = false; }
 
@@ -52,6 +56,7 @@ class FiniteBearing {
   /// True for cells held at the supply pressure (holes, grooves), same layout.
   Eigen::MatrixXi supply_cells() const;
   const BearingSpec& spec() const { return spec_; }
+  const FiniteSolverOptions& options() const { return options_; }
 
  private:
   void mark_supply_cells();

@@ -22,4 +22,8 @@ FilmResult JournalBearing::evaluate(const Kinematics& k, Detail detail) {
   return finite_->evaluate(k);
 }
 
+FilmResult JournalBearing::evaluate_with_jacobian(const Kinematics& k, Detail detail) {
+  return finite_ ? finite_->evaluate_with_jacobian(k) : evaluate(k, detail);
+}
+
 }  // namespace nvh::bearing

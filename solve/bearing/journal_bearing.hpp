@@ -18,6 +18,8 @@ class JournalBearing {
   /// Validates the spec (nvh::Error naming the field).
   explicit JournalBearing(BearingSpec spec, FiniteSolverOptions options = {});
   FilmResult evaluate(const Kinematics& k, Detail detail = Detail::kFull);
+  /// As evaluate, with the finite model's Jacobian exact at the solution (FiniteBearing::evaluate_with_jacobian).
+  FilmResult evaluate_with_jacobian(const Kinematics& k, Detail detail = Detail::kForces);
   const BearingSpec& spec() const { return spec_; }
   /// The finite model's solver (pressure field, fill ratio), or nullptr for the closed forms.
   const FiniteBearing* finite() const { return finite_ ? &*finite_ : nullptr; }
