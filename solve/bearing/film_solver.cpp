@@ -388,10 +388,17 @@ int FilmSolver::solve(Eigen::VectorXd& P, Eigen::VectorXd& r, const FiniteSolver
     // right), when a full step shows a contraction step_k <= C step_{k-1}^2 that puts the next step,
     // C step_k^2, below the tolerance. (Not in the Fischer-Burmeister phase: its convergence near
     // degenerate cells can be linear.)
-    // A simplified step converges linearly: only the step and residual tests apply to it, and a step that
-    // has not contracted by chord_contraction since the last one sends the next step to a factorization.
+    // A simplified step converges linearly, at a rate rho = step / previous step (the last simplified solve's
+    // rate for its first step): it has converged when the error left after it, rho / (1 - rho) step, is below
+    // the tolerance (the test of simplified Newton in implicit integrators: Hairer and Wanner, Solving ODEs
+    // II, section IV.8, eq. 8.10). A step that has not contracted by chord_contraction sends the next step to
+    // a factorization.
     const double contraction = last_step > 0 ? step / (last_step * last_step) : 1e300;
+    if (chord && last_chord_step > 0) chord_rate_ = step / last_chord_step;
+    const bool chord_converged =
+        chord && t == 1 && chord_rate_ < options.chord_contraction && chord_rate_ / (1 - chord_rate_) * step < options.tolerance;
     converged = step < options.tolerance || (t == 1 && std::sqrt(2 * f1) < options.tolerance * 1e-3) ||
+                chord_converged ||
                 (!chord && min_complementarity_ && t == 1 && step < 1e-3 && step < 0.1 * last_step &&
                  contraction * step * step < options.tolerance);
     if (chord && last_chord_step > 0 && step > options.chord_contraction * last_chord_step) chord_allowed = false;

@@ -136,6 +136,7 @@ class FilmSolver {
   bool min_complementarity_ = false;  // this Newton iteration: min(P, r) = 0 instead of Fischer-Burmeister
   bool last_factorized_ = false;      // see last_step_was_factorized()
   int factorizations_ = 0;            // see factorizations()
+  double chord_rate_ = 1;             // contraction of the last two simplified steps (1: none measured yet)
   FilmAssembly last_;
   std::unique_ptr<Linear> linear_;
 };
