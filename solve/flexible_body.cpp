@@ -544,30 +544,24 @@ void FlexibleBody::inertia_jacobian(std::span<const double> q, std::span<const d
   const Vec3 ub = sb * rate, ua = sb * acc;
   const Mat3 om = skew(omega), om2 = om * om;
 
-  // P_ab(eta), S_ab eta', S_ab eta'', dPsi_kl/deta, Psi.
-  for (int c = 0; c < 9; ++c) ws_p_.col(c) = data_.position[c];
+  // Psi and P_ab(eta) (with full coupling also S_ab eta: inertia_terms), S_ab eta', S_ab eta'', dPsi_kl/deta.
+  Mat3 psi;
+  const Eigen::MatrixXd& pab = inertia_terms(eta, psi);
   if (full)
     for (int c = 0; c < 9; ++c) {
-      ws_s_eta_.col(c).noalias() = data_.quadratic[c] * eta;
       ws_s_rate_.col(c).noalias() = data_.quadratic[c] * rate;
       ws_s_acc_.col(c).noalias() = data_.quadratic[c] * acc;
     }
-  Mat3 psi = data_.second_moment;
   for (int k = 0; k < 3; ++k)
     for (int l = 0; l < 3; ++l) {
       const int kl = 3 * k + l, lk = 3 * l + k;
-      psi(k, l) += data_.position[kl].dot(eta) + data_.position[lk].dot(eta);
-      ws_dpsi_.col(kl) = data_.position[kl] + data_.position[lk];
-      if (full) {
-        psi(k, l) += eta.dot(ws_s_eta_.col(kl));
-        ws_dpsi_.col(kl) += ws_s_eta_.col(kl) + ws_s_eta_.col(lk);
-        ws_p_.col(kl) += ws_s_eta_.col(lk);  // S_kl^T eta = S_lk eta
-      }
+      ws_dpsi_.col(kl) = position_cols_.col(kl) + position_cols_.col(lk);
+      if (full) ws_dpsi_.col(kl) += ws_s_eta_.col(kl) + ws_s_eta_.col(lk);
     }
   const Mat3 j = psi.trace() * Mat3::Identity() - psi;
   Mat3 g;  // G_ab = P_ba . eta'
   for (int i = 0; i < 3; ++i)
-    for (int k = 0; k < 3; ++k) g(i, k) = ws_p_.col(3 * k + i).dot(rate);
+    for (int k = 0; k < 3; ++k) g(i, k) = pab.col(3 * k + i).dot(rate);
 
   d_q.setZero();
   d_w.setZero();
@@ -623,7 +617,7 @@ void FlexibleBody::inertia_jacobian(std::span<const double> q, std::span<const d
         wp(i, 4 * k) += 2 * omega[i];
         wp(i, 3 * k + i) -= 2 * omega[k];
       }
-    d_w.block(3, 6, 3, n_).noalias() = wp * ws_p_.transpose();
+    d_w.block(3, 6, 3, n_).noalias() = wp * pab.transpose();
   }
   d_w.block<3, 3>(3, 3) = om * j - skew(j * omega) + 2 * (g.trace() * Mat3::Identity() - g);
 
@@ -647,7 +641,7 @@ void FlexibleBody::inertia_jacobian(std::span<const double> q, std::span<const d
         xw(3 * c + b, c) += omega[b];
         xw(4 * b, c) -= 2 * omega[c];
       }
-    d_w.block(6, 3, n_, 3).noalias() = ws_p_ * xw;
+    d_w.block(6, 3, n_, 3).noalias() = pab * xw;
     if (full) {
       Eigen::Matrix<double, 9, 3> xs = Eigen::Matrix<double, 9, 3>::Zero();
       for (int c = 0; c < 3; ++c) {
