@@ -184,6 +184,7 @@ FlexibleBody::FlexibleBody(std::string name, FlexibleData data, Coupling couplin
   ws_p_.resize(n_, 9);
   ws_dpsi_.resize(n_, 9);
   ws_3n_.resize(3, n_);
+  ws_n_.resize(n_);
 }
 
 Eigen::VectorXd FlexibleBody::initial_positions() const {
@@ -384,14 +385,17 @@ double FlexibleBody::kinetic_energy(std::span<const double> q, std::span<const d
 double FlexibleBody::potential_energy(std::span<const double> q, const Vec3& gravity) const {
   return -data_.mass * gravity.dot(center_of_mass(q)) + strain_energy(q);
 }
+// (Called by every residual, for the energy balance: no heap allocation, D eta' into the workspace.)
 double FlexibleBody::dissipated_power(std::span<const double>, std::span<const double> w) const {
-  const Eigen::Map<const Eigen::VectorXd> rate(w.data() + 6, n_);
-  return rate.dot(data_.damping * rate);
+  const auto rate = tail(w, 6, n_);
+  ws_n_.noalias() = data_.damping * rate;
+  return rate.dot(ws_n_);
 }
 
 double FlexibleBody::strain_energy(std::span<const double> q) const {
   const auto eta = tail(q, 7, n_);
-  return 0.5 * eta.dot(data_.stiffness * eta);
+  ws_n_.noalias() = data_.stiffness * eta;
+  return 0.5 * eta.dot(ws_n_);
 }
 
 Vec3 FlexibleBody::center_of_mass(std::span<const double> q) const {

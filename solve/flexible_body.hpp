@@ -134,6 +134,7 @@ class FlexibleBody final : public Body {
   mutable Eigen::MatrixXd ws_p_;           // n x 9: column 3a+b = P_ab(eta) = I_tilde_ab + S_ba eta
   mutable Eigen::MatrixXd ws_dpsi_;        // n x 9: column 3k+l = dPsi_kl/deta
   mutable Eigen::Matrix<double, 3, Eigen::Dynamic> ws_3n_;  // 3 x n
+  mutable Eigen::VectorXd ws_n_;           // n: D eta' (dissipated_power), K eta (strain_energy)
 };
 
 /// Build a flexible body from a scene's [[body]] table with type = "flexible" (keys read from `t`; the

@@ -5,8 +5,9 @@
 //      states (the oracle of test_jacobian.cpp, its `compare` helper copied);
 //   2. each of FlexibleBody's five derivative functions against the Body base class' local-difference
 //      defaults (qualified calls), at random states with modal rotations up to ~0.3 rad;
-//   3. add_wrench, marker_sensitivity, add_wrench_derivative, kinematic_jacobian, inertia_jacobian and
-//      inertia_residual do not allocate, mass_matrix only its result (glibc: malloc counted);
+//   3. add_wrench, marker_sensitivity, add_wrench_derivative, kinematic_jacobian, inertia_jacobian,
+//      inertia_residual and dissipated_power do not allocate, mass_matrix only its result (glibc: malloc
+//      counted);
 //   4. the time of Model::jacobian for a beam of 30 modes, with the closed forms and with the defaults
 //      (a forwarding body that inherits them), printed.
 #include <gtest/gtest.h>
@@ -444,13 +445,16 @@ TEST(FlexibleJacobianFunctions, DoNotAllocate) {
     g_counting = false;
     EXPECT_EQ(g_allocations.load(), 0) << coupling << " coupling: heap allocations in the derivatives";
 
-    // the inertial rows (called by every residual) do not allocate; the mass matrix only its result
+    // the inertial rows and the damping power (called by every residual) do not allocate; the mass matrix (the
+    // Jacobian's) only its result
     Eigen::VectorXd rows(nw);
     g_allocations = 0;
     g_counting = true;
     body.inertia_residual(q, w, wd, g, {rows.data(), std::size_t(nw)});
+    const double power = body.dissipated_power(q, w);
     g_counting = false;
-    EXPECT_EQ(g_allocations.load(), 0) << coupling << " coupling: heap allocations in inertia_residual";
+    EXPECT_EQ(g_allocations.load(), 0) << coupling << " coupling: heap allocations in the residual's functions";
+    EXPECT_GE(power, 0.0);
     g_allocations = 0;
     g_counting = true;
     const Eigen::MatrixXd mass = body.mass_matrix(q);
