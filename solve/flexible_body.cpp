@@ -214,7 +214,8 @@ Eigen::VectorXd FlexibleBody::position_rates(std::span<const double> q, std::spa
 // Psi(eta) and P_ab(eta) (top of this file). The linear parts by one product with the packed I_tilde columns:
 // Psi_kl = I_kl + (I_tilde^T eta)_kl + (I_tilde^T eta)_lk [+ eta . S_kl eta];  P_ab = I_tilde_ab [+ S_ba eta]
 // (S_ab^T = S_ba), the bracketed terms with full coupling only (ws_s_eta_ holds S_kl eta).
-const Eigen::MatrixXd& FlexibleBody::inertia_terms(const Eigen::Ref<const Eigen::VectorXd>& eta, Mat3& psi) const {
+const Eigen::MatrixXd& FlexibleBody::inertia_terms(const Eigen::Ref<const Eigen::VectorXd>& eta,
+                                                   Mat3& psi) const {
   const bool full = coupling_ == Coupling::kFull;
   Eigen::Matrix<double, 9, 1> te;  // I_tilde_kl . eta
   te.noalias() = position_cols_.transpose() * eta;
@@ -228,7 +229,8 @@ const Eigen::MatrixXd& FlexibleBody::inertia_terms(const Eigen::Ref<const Eigen:
     }
   if (!full) return position_cols_;
   for (int k = 0; k < 3; ++k)
-    for (int l = 0; l < 3; ++l) ws_p_.col(3 * k + l) = position_cols_.col(3 * k + l) + ws_s_eta_.col(3 * l + k);
+    for (int l = 0; l < 3; ++l)
+      ws_p_.col(3 * k + l) = position_cols_.col(3 * k + l) + ws_s_eta_.col(3 * l + k);
   return ws_p_;
 }
 
@@ -294,8 +296,10 @@ void FlexibleBody::inertia_residual(std::span<const double> q, std::span<const d
   }
 
   Eigen::Map<Eigen::VectorXd> r(rows.data(), 6 + n_);
-  r.head<3>() = data_.mass * y + a * (a_w.cross(mc) + ua + omega.cross(omega.cross(mc)) + 2 * omega.cross(ub));
-  r.segment<3>(3) = mc.cross(yb) + j * a_w + rot_acc + omega.cross(j * omega) + 2 * (g.trace() * omega - g * omega);
+  r.head<3>() =
+      data_.mass * y + a * (a_w.cross(mc) + ua + omega.cross(omega.cross(mc)) + 2 * omega.cross(ub));
+  r.segment<3>(3) =
+      mc.cross(yb) + j * a_w + rot_acc + omega.cross(j * omega) + 2 * (g.trace() * omega - g * omega);
 
   const Mat3 c = om2 + skew(a_w).transpose();
   Eigen::Matrix<double, 9, 1> cv;  // C_ab at 3a+b

@@ -113,8 +113,9 @@ class FlexibleBody final : public Body {
 
  private:
   /// The eta-dependent inertia terms (flexible_body.cpp): returns P, whose column 3a+b is P_ab(eta) =
-  /// I_tilde_ab + S_ab^T eta (the constant I_tilde columns in linear coupling, ws_p_ with full coupling), and sets
-  /// psi = Psi(eta) = int rho s s^T dV. With full coupling ws_s_eta_ then holds S_kl eta. No heap allocation.
+  /// I_tilde_ab + S_ab^T eta (the constant I_tilde columns in linear coupling, ws_p_ with full coupling), and
+  /// sets psi = Psi(eta) = int rho s s^T dV. With full coupling ws_s_eta_ then holds S_kl eta. No heap
+  /// allocation.
   const Eigen::MatrixXd& inertia_terms(const Eigen::Ref<const Eigen::VectorXd>& eta, Mat3& psi) const;
   int point_of(int marker) const;
 

@@ -378,8 +378,8 @@ TEST_P(FlexibleJacobian, InertiaResidualIsLinearInTheAccelerationsWithTheMassMat
   const fs::path dir = temp_dir(std::string("mass_") + c.basis.name + "_" + c.coupling);
   write_beam(dir / "beam.h5", c.basis.method, c.basis.orthonormalize, c.basis.modes);
   const FlexibleBody body("beam", load_flexible_data(dir / "beam.h5"),
-                          std::string(c.coupling) == "full" ? Coupling::kFull : Coupling::kLinear, InitialState{}, {},
-                          {});
+                          std::string(c.coupling) == "full" ? Coupling::kFull : Coupling::kLinear,
+                          InitialState{}, {}, {});
   std::mt19937 rng(11);
   const int nw = body.velocity_count();
   const Vec3 g(0.0, -9.81, 2.0);
@@ -445,15 +445,16 @@ TEST(FlexibleJacobianFunctions, DoNotAllocate) {
     g_counting = false;
     EXPECT_EQ(g_allocations.load(), 0) << coupling << " coupling: heap allocations in the derivatives";
 
-    // the inertial rows and the damping power (called by every residual) do not allocate; the mass matrix (the
-    // Jacobian's) only its result
+    // the inertial rows and the damping power (called by every residual) do not allocate; the mass matrix
+    // (the Jacobian's) only its result
     Eigen::VectorXd rows(nw);
     g_allocations = 0;
     g_counting = true;
     body.inertia_residual(q, w, wd, g, {rows.data(), std::size_t(nw)});
     const double power = body.dissipated_power(q, w);
     g_counting = false;
-    EXPECT_EQ(g_allocations.load(), 0) << coupling << " coupling: heap allocations in the residual's functions";
+    EXPECT_EQ(g_allocations.load(), 0)
+        << coupling << " coupling: heap allocations in the residual's functions";
     EXPECT_GE(power, 0.0);
     g_allocations = 0;
     g_counting = true;
