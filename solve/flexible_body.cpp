@@ -176,12 +176,15 @@ FlexibleBody::FlexibleBody(std::string name, FlexibleData data, Coupling couplin
     add_marker(std::move(m));
   }
   builtin_markers_ = static_cast<int>(data_.points.size());
+  position_cols_.resize(n_, 9);
+  for (int c = 0; c < 9; ++c) position_cols_.col(c) = data_.position[c];
   ws_s_eta_.resize(n_, 9);
   ws_s_rate_.resize(n_, 9);
   ws_s_acc_.resize(n_, 9);
   ws_p_.resize(n_, 9);
   ws_dpsi_.resize(n_, 9);
   ws_3n_.resize(3, n_);
+  ws_n_.resize(n_);
 }
 
 Eigen::VectorXd FlexibleBody::initial_positions() const {
@@ -208,39 +211,45 @@ Eigen::VectorXd FlexibleBody::position_rates(std::span<const double> q, std::spa
   return qd;
 }
 
-FlexibleBody::Inertia FlexibleBody::inertia_terms(const Eigen::Ref<const Eigen::VectorXd>& eta) const {
-  Inertia in;
+// Psi(eta) and P_ab(eta) (top of this file). The linear parts by one product with the packed I_tilde columns:
+// Psi_kl = I_kl + (I_tilde^T eta)_kl + (I_tilde^T eta)_lk [+ eta . S_kl eta];  P_ab = I_tilde_ab [+ S_ba eta]
+// (S_ab^T = S_ba), the bracketed terms with full coupling only (ws_s_eta_ holds S_kl eta).
+const Eigen::MatrixXd& FlexibleBody::inertia_terms(const Eigen::Ref<const Eigen::VectorXd>& eta,
+                                                   Mat3& psi) const {
   const bool full = coupling_ == Coupling::kFull;
-  in.psi = data_.second_moment;
+  Eigen::Matrix<double, 9, 1> te;  // I_tilde_kl . eta
+  te.noalias() = position_cols_.transpose() * eta;
+  if (full)
+    for (int c = 0; c < 9; ++c) ws_s_eta_.col(c).noalias() = data_.quadratic[c] * eta;
+  psi = data_.second_moment;
   for (int k = 0; k < 3; ++k)
     for (int l = 0; l < 3; ++l) {
-      in.psi(k, l) += data_.position[3 * k + l].dot(eta) + data_.position[3 * l + k].dot(eta);
-      if (full) in.psi(k, l) += eta.dot(data_.quadratic[3 * k + l] * eta);
-      in.p[3 * k + l] = data_.position[3 * k + l];
-      if (full) in.p[3 * k + l] += data_.quadratic[3 * k + l].transpose() * eta;
+      psi(k, l) += te[3 * k + l] + te[3 * l + k];
+      if (full) psi(k, l) += eta.dot(ws_s_eta_.col(3 * k + l));
     }
-  return in;
-}
-
-Mat3X FlexibleBody::Inertia::rotational() const {
-  Mat3X r(3, p[0].size());
-  r.row(0) = (p[3 * 1 + 2] - p[3 * 2 + 1]).transpose();
-  r.row(1) = (p[3 * 2 + 0] - p[3 * 0 + 2]).transpose();
-  r.row(2) = (p[3 * 0 + 1] - p[3 * 1 + 0]).transpose();
-  return r;
+  if (!full) return position_cols_;
+  for (int k = 0; k < 3; ++k)
+    for (int l = 0; l < 3; ++l)
+      ws_p_.col(3 * k + l) = position_cols_.col(3 * k + l) + ws_s_eta_.col(3 * l + k);
+  return ws_p_;
 }
 
 Eigen::MatrixXd FlexibleBody::mass_matrix(std::span<const double> q) const {
   const Mat3 a = rotation_matrix(vec4(q, 3));
   const auto eta = tail(q, 7, n_);
-  const Inertia in = inertia_terms(eta);
+  Mat3 psi;
+  const Eigen::MatrixXd& p = inertia_terms(eta, psi);
   const Vec3 mc = data_.first_moment + data_.translational * eta;
-  Eigen::MatrixXd m = Eigen::MatrixXd::Zero(6 + n_, 6 + n_);
+  Eigen::MatrixXd m(6 + n_, 6 + n_);
   m.topLeftCorner<3, 3>() = data_.mass * Mat3::Identity();
   m.block<3, 3>(0, 3) = -a * skew(mc);
-  m.block(0, 6, 3, n_) = a * data_.translational;
-  m.block<3, 3>(3, 3) = in.inertia();
-  m.block(3, 6, 3, n_) = in.rotational();
+  m.block(0, 6, 3, n_).noalias() = a * data_.translational;
+  m.block<3, 3>(3, 3) = psi.trace() * Mat3::Identity() - psi;  // J(eta)
+  // int rho s~ S dV: row i = P_jk - P_kj, (i, j, k) cyclic
+  for (int i = 0; i < 3; ++i) {
+    const int j = (i + 1) % 3, k = (i + 2) % 3;
+    m.block(3 + i, 6, 1, n_) = (p.col(3 * j + k) - p.col(3 * k + j)).transpose();
+  }
   m.bottomRightCorner(n_, n_) = data_.modal_mass;
   // symmetric: the lower blocks are the transposes
   m.block<3, 3>(3, 0) = m.block<3, 3>(0, 3).transpose();
@@ -249,40 +258,63 @@ Eigen::MatrixXd FlexibleBody::mass_matrix(std::span<const double> q) const {
   return m;
 }
 
+// R = M(eta) w' + h(eta, w) - Q_g + [0; 0; K eta + D eta'] by blocks, without forming M. Gravity acts as an
+// acceleration of the frame: Q_g = M [g; 0; 0], so with y = a_r - g and w' = [a_r, a_w, eta''] (as in
+// inertia_jacobian below, which differentiates these rows):
+//   R_r   = m y + A (a_w x mc + S_bar eta'' + omega x (omega x mc) + 2 omega x S_bar eta')
+//   R_om  = mc x (A^T y) + J a_w + (int rho s~ S) eta'' + omega x J omega + 2 (tr(G) omega - G omega)
+//   R_eta = S_bar^T A^T y + sum_ab C_ab P_ab + M_r eta'' + K eta + D eta' [+ 2 sum_ab omega~_ab S_ab eta']
+// with C = omega~^2 + a_w~^T: (omega~ omega~)_ab P_ab is h_eta's first term (omega~^2 is symmetric) and
+// (int rho s~ S)^T a_w = sum_ab (a_w~)_ba P_ab; the bracket with full coupling only.
 void FlexibleBody::inertia_residual(std::span<const double> q, std::span<const double> w,
                                     std::span<const double> wdot, const Vec3& gravity,
                                     std::span<double> rows) const {
   const Mat3 a = rotation_matrix(vec4(q, 3));
   const auto eta = tail(q, 7, n_);
-  const Vec3 omega = vec3(w, 3);
-  const auto eta_rate = tail(w, 6, n_);
+  const auto rate = tail(w, 6, n_);
+  const auto acc = tail(wdot, 6, n_);
+  const Vec3 omega = vec3(w, 3), a_r = vec3(wdot, 0), a_w = vec3(wdot, 3);
   const bool full = coupling_ == Coupling::kFull;
-  const Inertia in = inertia_terms(eta);
-  const Vec3 mc = data_.first_moment + data_.translational * eta;
+  const auto& sb = data_.translational;
+  Mat3 psi;
+  const Eigen::MatrixXd& p = inertia_terms(eta, psi);
+  const Mat3 j = psi.trace() * Mat3::Identity() - psi;
+  const Vec3 mc = data_.first_moment + sb * eta, ub = sb * rate, ua = sb * acc;
+  const Vec3 y = a_r - gravity, yb = a.transpose() * y;
   const Mat3 om = skew(omega), om2 = om * om;
 
-  // Quadratic velocity vector h (see the top of this file).
-  Eigen::VectorXd h(6 + n_);
-  h.head<3>() = a * (omega.cross(omega.cross(mc)) + 2 * omega.cross(data_.translational * eta_rate));
-  Mat3 g;  // G_ab = P_ba . eta'
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) g(i, j) = in.p[3 * j + i].dot(eta_rate);
-  h.segment<3>(3) = omega.cross(in.inertia() * omega) + 2 * (g.trace() * omega - g * omega);
-  Eigen::VectorXd he = Eigen::VectorXd::Zero(n_);
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) {
-      he += om2(i, j) * in.p[3 * j + i];
-      if (full && om(i, j) != 0.0) he += 2 * om(i, j) * (data_.quadratic[3 * i + j] * eta_rate);
-    }
-  h.tail(n_) = he;
+  // P_ab . eta' (G_ab = P_ba . eta') and P_ab . eta'' ((int rho s~ S) eta'', row i = (P_jk - P_kj) . eta'').
+  Eigen::Matrix<double, 9, 1> pr, pa;
+  pr.noalias() = p.transpose() * rate;
+  pa.noalias() = p.transpose() * acc;
+  Mat3 g;
+  Vec3 rot_acc;
+  for (int i = 0; i < 3; ++i) {
+    for (int k = 0; k < 3; ++k) g(i, k) = pr[3 * k + i];
+    const int jj = (i + 1) % 3, kk = (i + 2) % 3;
+    rot_acc[i] = pa[3 * jj + kk] - pa[3 * kk + jj];
+  }
 
-  // Gravity and the elastic forces.
-  const Vec3 g_body = a.transpose() * gravity;
-  Eigen::VectorXd rhs(6 + n_);
-  rhs << data_.mass * gravity, mc.cross(g_body),
-      data_.translational.transpose() * g_body - data_.stiffness * eta - data_.damping * eta_rate;
+  Eigen::Map<Eigen::VectorXd> r(rows.data(), 6 + n_);
+  r.head<3>() =
+      data_.mass * y + a * (a_w.cross(mc) + ua + omega.cross(omega.cross(mc)) + 2 * omega.cross(ub));
+  r.segment<3>(3) =
+      mc.cross(yb) + j * a_w + rot_acc + omega.cross(j * omega) + 2 * (g.trace() * omega - g * omega);
 
-  Eigen::Map<Eigen::VectorXd>(rows.data(), 6 + n_) = mass_matrix(q) * tail(wdot, 0, 6 + n_) + h - rhs;
+  const Mat3 c = om2 + skew(a_w).transpose();
+  Eigen::Matrix<double, 9, 1> cv;  // C_ab at 3a+b
+  for (int i = 0; i < 3; ++i)
+    for (int k = 0; k < 3; ++k) cv[3 * i + k] = c(i, k);
+  auto re = r.tail(n_);
+  re.noalias() = sb.transpose() * yb;
+  re.noalias() += p * cv;
+  re.noalias() += data_.modal_mass * acc;
+  re.noalias() += data_.stiffness * eta;
+  re.noalias() += data_.damping * rate;
+  if (full)
+    for (int i = 0; i < 3; ++i)
+      for (int k = 0; k < 3; ++k)
+        if (om(i, k) != 0.0) re.noalias() += (2 * om(i, k)) * (data_.quadratic[3 * i + k] * rate);
 }
 
 int FlexibleBody::point_of(int marker) const {
@@ -357,14 +389,17 @@ double FlexibleBody::kinetic_energy(std::span<const double> q, std::span<const d
 double FlexibleBody::potential_energy(std::span<const double> q, const Vec3& gravity) const {
   return -data_.mass * gravity.dot(center_of_mass(q)) + strain_energy(q);
 }
+// (Called by every residual, for the energy balance: no heap allocation, D eta' into the workspace.)
 double FlexibleBody::dissipated_power(std::span<const double>, std::span<const double> w) const {
-  const Eigen::Map<const Eigen::VectorXd> rate(w.data() + 6, n_);
-  return rate.dot(data_.damping * rate);
+  const auto rate = tail(w, 6, n_);
+  ws_n_.noalias() = data_.damping * rate;
+  return rate.dot(ws_n_);
 }
 
 double FlexibleBody::strain_energy(std::span<const double> q) const {
   const auto eta = tail(q, 7, n_);
-  return 0.5 * eta.dot(data_.stiffness * eta);
+  ws_n_.noalias() = data_.stiffness * eta;
+  return 0.5 * eta.dot(ws_n_);
 }
 
 Vec3 FlexibleBody::center_of_mass(std::span<const double> q) const {
@@ -517,30 +552,24 @@ void FlexibleBody::inertia_jacobian(std::span<const double> q, std::span<const d
   const Vec3 ub = sb * rate, ua = sb * acc;
   const Mat3 om = skew(omega), om2 = om * om;
 
-  // P_ab(eta), S_ab eta', S_ab eta'', dPsi_kl/deta, Psi.
-  for (int c = 0; c < 9; ++c) ws_p_.col(c) = data_.position[c];
+  // Psi and P_ab(eta) (with full coupling also S_ab eta: inertia_terms), S_ab eta', S_ab eta'', dPsi_kl/deta.
+  Mat3 psi;
+  const Eigen::MatrixXd& pab = inertia_terms(eta, psi);
   if (full)
     for (int c = 0; c < 9; ++c) {
-      ws_s_eta_.col(c).noalias() = data_.quadratic[c] * eta;
       ws_s_rate_.col(c).noalias() = data_.quadratic[c] * rate;
       ws_s_acc_.col(c).noalias() = data_.quadratic[c] * acc;
     }
-  Mat3 psi = data_.second_moment;
   for (int k = 0; k < 3; ++k)
     for (int l = 0; l < 3; ++l) {
       const int kl = 3 * k + l, lk = 3 * l + k;
-      psi(k, l) += data_.position[kl].dot(eta) + data_.position[lk].dot(eta);
-      ws_dpsi_.col(kl) = data_.position[kl] + data_.position[lk];
-      if (full) {
-        psi(k, l) += eta.dot(ws_s_eta_.col(kl));
-        ws_dpsi_.col(kl) += ws_s_eta_.col(kl) + ws_s_eta_.col(lk);
-        ws_p_.col(kl) += ws_s_eta_.col(lk);  // S_kl^T eta = S_lk eta
-      }
+      ws_dpsi_.col(kl) = position_cols_.col(kl) + position_cols_.col(lk);
+      if (full) ws_dpsi_.col(kl) += ws_s_eta_.col(kl) + ws_s_eta_.col(lk);
     }
   const Mat3 j = psi.trace() * Mat3::Identity() - psi;
   Mat3 g;  // G_ab = P_ba . eta'
   for (int i = 0; i < 3; ++i)
-    for (int k = 0; k < 3; ++k) g(i, k) = ws_p_.col(3 * k + i).dot(rate);
+    for (int k = 0; k < 3; ++k) g(i, k) = pab.col(3 * k + i).dot(rate);
 
   d_q.setZero();
   d_w.setZero();
@@ -596,7 +625,7 @@ void FlexibleBody::inertia_jacobian(std::span<const double> q, std::span<const d
         wp(i, 4 * k) += 2 * omega[i];
         wp(i, 3 * k + i) -= 2 * omega[k];
       }
-    d_w.block(3, 6, 3, n_).noalias() = wp * ws_p_.transpose();
+    d_w.block(3, 6, 3, n_).noalias() = wp * pab.transpose();
   }
   d_w.block<3, 3>(3, 3) = om * j - skew(j * omega) + 2 * (g.trace() * Mat3::Identity() - g);
 
@@ -620,7 +649,7 @@ void FlexibleBody::inertia_jacobian(std::span<const double> q, std::span<const d
         xw(3 * c + b, c) += omega[b];
         xw(4 * b, c) -= 2 * omega[c];
       }
-    d_w.block(6, 3, n_, 3).noalias() = ws_p_ * xw;
+    d_w.block(6, 3, n_, 3).noalias() = pab * xw;
     if (full) {
       Eigen::Matrix<double, 9, 3> xs = Eigen::Matrix<double, 9, 3>::Zero();
       for (int c = 0; c < 3; ++c) {

@@ -69,8 +69,10 @@ class FlexibleBody final : public Body {
                           std::span<const double> w_eff, std::span<const double> alg, std::span<double> rows,
                           std::span<double> alg_rows) const override;
   Eigen::VectorXd position_rates(std::span<const double> q, std::span<const double> w) const override;
+  /// Blockwise from the invariants, without forming M(q); no heap allocation (the workspace below).
   void inertia_residual(std::span<const double> q, std::span<const double> w, std::span<const double> wdot,
                         const Vec3& gravity, std::span<double> rows) const override;
+  /// Allocates its result only.
   Eigen::MatrixXd mass_matrix(std::span<const double> q) const override;
   MarkerMotion marker_motion(int marker, std::span<const double> q, std::span<const double> w) const override;
   MarkerJacobian marker_jacobian(int marker, std::span<const double> q) const override;
@@ -110,14 +112,11 @@ class FlexibleBody final : public Body {
   static constexpr double kNormalizationRate = 100.0;  // beta, 1/s (as RigidBody)
 
  private:
-  /// The eta-dependent inertia terms: Psi = int rho s s^T dV, P[a][b] = int rho s_a S_b dV (n).
-  struct Inertia {
-    Mat3 psi;
-    std::array<Eigen::VectorXd, 9> p;
-    Mat3 inertia() const { return psi.trace() * Mat3::Identity() - psi; }  // J = int rho s~^T s~ dV
-    Eigen::Matrix<double, 3, Eigen::Dynamic> rotational() const;           // int rho s~ S dV (3 x n)
-  };
-  Inertia inertia_terms(const Eigen::Ref<const Eigen::VectorXd>& eta) const;
+  /// The eta-dependent inertia terms (flexible_body.cpp): returns P, whose column 3a+b is P_ab(eta) =
+  /// I_tilde_ab + S_ab^T eta (the constant I_tilde columns in linear coupling, ws_p_ with full coupling), and
+  /// sets psi = Psi(eta) = int rho s s^T dV. With full coupling ws_s_eta_ then holds S_kl eta. No heap
+  /// allocation.
+  const Eigen::MatrixXd& inertia_terms(const Eigen::Ref<const Eigen::VectorXd>& eta, Mat3& psi) const;
   int point_of(int marker) const;
 
   FlexibleData data_;
@@ -127,13 +126,16 @@ class FlexibleBody final : public Body {
   int n_;
   int builtin_markers_;
   std::vector<int> user_points_;
-  // Workspace of the derivatives (sized in the constructor; the body is not thread-safe, as the model).
+  Eigen::MatrixXd position_cols_;          // n x 9: column 3a+b = I_tilde_ab (data_.position, packed)
+  // Workspace of the inertial rows and their derivatives (sized in the constructor; the body is not
+  // thread-safe, as the model).
   mutable Eigen::MatrixXd ws_s_eta_;       // n x 9: column 3a+b = S_ab eta
   mutable Eigen::MatrixXd ws_s_rate_;      // n x 9: column 3a+b = S_ab eta'
   mutable Eigen::MatrixXd ws_s_acc_;       // n x 9: column 3a+b = S_ab eta''
   mutable Eigen::MatrixXd ws_p_;           // n x 9: column 3a+b = P_ab(eta) = I_tilde_ab + S_ba eta
   mutable Eigen::MatrixXd ws_dpsi_;        // n x 9: column 3k+l = dPsi_kl/deta
   mutable Eigen::Matrix<double, 3, Eigen::Dynamic> ws_3n_;  // 3 x n
+  mutable Eigen::VectorXd ws_n_;           // n: D eta' (dissipated_power), K eta (strain_energy)
 };
 
 /// Build a flexible body from a scene's [[body]] table with type = "flexible" (keys read from `t`; the

@@ -5,8 +5,9 @@
 //      states (the oracle of test_jacobian.cpp, its `compare` helper copied);
 //   2. each of FlexibleBody's five derivative functions against the Body base class' local-difference
 //      defaults (qualified calls), at random states with modal rotations up to ~0.3 rad;
-//   3. add_wrench, marker_sensitivity, add_wrench_derivative, kinematic_jacobian and inertia_jacobian do not
-//      allocate (glibc: malloc counted);
+//   3. add_wrench, marker_sensitivity, add_wrench_derivative, kinematic_jacobian, inertia_jacobian,
+//      inertia_residual and dissipated_power do not allocate, mass_matrix only its result (glibc: malloc
+//      counted);
 //   4. the time of Model::jacobian for a beam of 30 modes, with the closed forms and with the defaults
 //      (a forwarding body that inherits them), printed.
 #include <gtest/gtest.h>
@@ -370,6 +371,34 @@ TEST_P(FlexibleJacobian, EachDerivativeMatchesTheBaseClassDifferences) {
   fs::remove_all(dir);
 }
 
+// inertia_residual works by blocks without forming M(q): its w'-dependence must be mass_matrix (the model's
+// Jacobian adds cj M), and M symmetric. Both are linear in w', so the difference is round-off only.
+TEST_P(FlexibleJacobian, InertiaResidualIsLinearInTheAccelerationsWithTheMassMatrix) {
+  const auto& c = GetParam();
+  const fs::path dir = temp_dir(std::string("mass_") + c.basis.name + "_" + c.coupling);
+  write_beam(dir / "beam.h5", c.basis.method, c.basis.orthonormalize, c.basis.modes);
+  const FlexibleBody body("beam", load_flexible_data(dir / "beam.h5"),
+                          std::string(c.coupling) == "full" ? Coupling::kFull : Coupling::kLinear,
+                          InitialState{}, {}, {});
+  std::mt19937 rng(11);
+  const int nw = body.velocity_count();
+  const Vec3 g(0.0, -9.81, 2.0);
+  for (int k = 0; k < 4; ++k) {
+    const RandomState s = random_state(body, rng, 0.1);
+    const auto q = span_of(s.q), w = span_of(s.w);
+    const Eigen::VectorXd zero = Eigen::VectorXd::Zero(nw);
+    Eigen::VectorXd r1(nw), r0(nw);
+    body.inertia_residual(q, w, span_of(s.wdot), g, {r1.data(), std::size_t(nw)});
+    body.inertia_residual(q, w, span_of(zero), g, {r0.data(), std::size_t(nw)});
+    const Eigen::MatrixXd m = body.mass_matrix(q);
+    const Eigen::VectorXd mw = m * s.wdot;
+    const double scale = std::max(r1.cwiseAbs().maxCoeff(), r0.cwiseAbs().maxCoeff());
+    EXPECT_LT((r1 - r0 - mw).cwiseAbs().maxCoeff(), 1e-12 * scale) << c.basis.name << ", " << c.coupling;
+    EXPECT_LT((m - m.transpose()).cwiseAbs().maxCoeff(), 1e-14 * m.cwiseAbs().maxCoeff());
+  }
+  fs::remove_all(dir);
+}
+
 INSTANTIATE_TEST_SUITE_P(Superelements, FlexibleJacobian,
                          ::testing::Values(JacobianCase{kModal, "full"}, JacobianCase{kModal, "linear"},
                                            JacobianCase{kCraigBampton, "full"},
@@ -415,6 +444,24 @@ TEST(FlexibleJacobianFunctions, DoNotAllocate) {
     body.inertia_jacobian(q, w, wd, g, iq, iw);
     g_counting = false;
     EXPECT_EQ(g_allocations.load(), 0) << coupling << " coupling: heap allocations in the derivatives";
+
+    // the inertial rows and the damping power (called by every residual) do not allocate; the mass matrix
+    // (the Jacobian's) only its result
+    Eigen::VectorXd rows(nw);
+    g_allocations = 0;
+    g_counting = true;
+    body.inertia_residual(q, w, wd, g, {rows.data(), std::size_t(nw)});
+    const double power = body.dissipated_power(q, w);
+    g_counting = false;
+    EXPECT_EQ(g_allocations.load(), 0)
+        << coupling << " coupling: heap allocations in the residual's functions";
+    EXPECT_GE(power, 0.0);
+    g_allocations = 0;
+    g_counting = true;
+    const Eigen::MatrixXd mass = body.mass_matrix(q);
+    g_counting = false;
+    EXPECT_EQ(g_allocations.load(), 1) << coupling << " coupling: mass_matrix allocates more than its result";
+    EXPECT_EQ(mass.rows(), nw);
   }
   fs::remove_all(dir);
 #else
