@@ -41,6 +41,7 @@ struct IntegratorStatistics {
   long events = 0;  // contact onsets and releases located (IntegratorSettings::events)
   int last_order = 0;
   double last_step = 0;
+  // wall-clock seconds (steady_clock) in the residual, the Jacobian and the rest (results: wall_*_s)
   double cpu_residual_s = 0, cpu_jacobian_s = 0, cpu_factorization_s = 0;
 };
 

@@ -246,9 +246,9 @@ void ResultsWriter::finish(const std::string& status, const std::string& message
   g.set_attribute("events", static_cast<std::int64_t>(st.events));
   g.set_attribute("last_order", st.last_order);
   g.set_attribute("last_step_s", st.last_step);
-  g.set_attribute("cpu_residual_s", st.cpu_residual_s);
-  g.set_attribute("cpu_jacobian_s", st.cpu_jacobian_s);
-  g.set_attribute("cpu_linear_algebra_and_other_s", st.cpu_factorization_s);
+  g.set_attribute("wall_residual_s", st.cpu_residual_s);
+  g.set_attribute("wall_jacobian_s", st.cpu_jacobian_s);
+  g.set_attribute("wall_linear_algebra_and_other_s", st.cpu_factorization_s);
   g.set_attribute("wall_s", wall_seconds);
   root.set_attribute("status", status);
   root.set_attribute("message", message);
