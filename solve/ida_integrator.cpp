@@ -71,6 +71,7 @@ class IdaIntegrator final : public Integrator {
     const double h0 = s.initial_step > 0 ? s.initial_step : (model.constraint_equations() > 0 ? 1e-6 : 0.0);
     if (h0 > 0) check(IDASetInitStep(mem_, h0), "IDASetInitStep");
     check(IDASetMaxOrd(mem_, s.max_order), "IDASetMaxOrd");
+    check(IDASetDeltaCjLSetup(mem_, s.jacobian_cj_change), "IDASetDeltaCjLSetup");
     check(IDASetMaxNumSteps(mem_, 100000000L), "IDASetMaxNumSteps");
     const auto& p = jacobian_.pattern();
     matrix_ = SUNSparseMatrix(n, n, std::max(1, p.nonzeros()), CSC_MAT, ctx_);

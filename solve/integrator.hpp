@@ -18,6 +18,10 @@ struct IntegratorSettings {
   double max_step = 0;           // s, 0 = no limit
   double initial_step = 0;       // s, 0 = automatic
   int max_order = 5;             // IDA
+  // IDA: a new Jacobian (and factorization) when cj = alpha/h has changed by more than this fraction since the
+  // last one (IDASetDeltaCjLSetup; 0.25 is SUNDIALS' default). Between updates IDA scales the Newton
+  // correction by 2/(1 + cj/cj_old); a larger value trades Jacobians for Newton iterations.
+  double jacobian_cj_change = 0.25;
   double rho_inf = 0.8;          // generalized-alpha spectral radius at infinity
   double step = 1e-4;            // generalized-alpha step (s); adapted if `adaptive`
   bool adaptive = true;          // generalized-alpha: halve the step when Newton fails, grow it back

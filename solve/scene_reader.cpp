@@ -293,6 +293,7 @@ void SceneReader::read_integrator(const Table& root) {
   s.max_step = t->number_or("max_step", s.max_step, Range::non_negative());
   s.initial_step = t->number_or("initial_step", s.initial_step, Range::non_negative());
   s.max_order = static_cast<int>(t->optional_integer("max_order", Range::closed(1, 5)).value_or(s.max_order));
+  s.jacobian_cj_change = t->number_or("jacobian_cj_change", s.jacobian_cj_change, Range::open(0.0, 1.0));
   s.rho_inf = t->number_or("rho_inf", s.rho_inf, Range::closed(0.0, 1.0));
   s.step = t->number_or("step", s.step, Range::positive());
   s.adaptive = t->optional_boolean("adaptive").value_or(s.adaptive);

@@ -73,8 +73,9 @@ struct Kinematics {
   double omega_shell = 0;                           ///< rad/s
 };
 
-/// How much of FilmResult an evaluation fills: everything, or the forces, torques and Jacobian alone (the
-/// short bearing's peak-pressure search is most of its cost and only an output channel needs it).
+/// How much of FilmResult an evaluation fills: everything, or the forces, torques, power loss and Jacobian
+/// alone (the short bearing's peak-pressure search is most of its cost, the finite film's flows one assembly
+/// more, and only output channels need them).
 enum class Detail { kFull, kForces };
 
 /// What one evaluation of the film returns.

@@ -113,7 +113,7 @@ void FiniteBearing::set_motion(const Kinematics& k) {
   }
 }
 
-FilmResult FiniteBearing::evaluate(const Kinematics& k) {
+FilmResult FiniteBearing::evaluate(const Kinematics& k, Detail detail) {
   check_eccentricity(spec_, k);
   set_motion(k);
   const std::vector<char>& supply = film_.problem.supply;
@@ -137,9 +137,10 @@ FilmResult FiniteBearing::evaluate(const Kinematics& k) {
   has_solution_ = true;
   p_ref_of_solution_ = p_ref_;
   kinematics_of_solution_ = k;
-  FilmAssembly final_state;
-  film_.assemble(P_, r_, false, final_state);
-  FilmResult result = post_process(k, final_state);
+  // The flows need the fluxes at the solution (one more assembly); forces and torques need only (P, r).
+  const bool flows = detail == Detail::kFull;
+  if (flows) film_.assemble(P_, r_, false, final_state_);
+  FilmResult result = post_process(k, flows ? &final_state_ : nullptr);
   result.iterations = iterations;
   result.factorizations = film_.factorizations();
   // The last factorization belongs to the state one (tiny) step before: within the tolerance of the solution.
@@ -149,8 +150,8 @@ FilmResult FiniteBearing::evaluate(const Kinematics& k) {
   return result;
 }
 
-FilmResult FiniteBearing::evaluate_with_jacobian(const Kinematics& k) {
-  FilmResult result = evaluate(k);
+FilmResult FiniteBearing::evaluate_with_jacobian(const Kinematics& k, Detail detail) {
+  FilmResult result = evaluate(k, detail);
   if (!options_.jacobian || result.has_full_jacobian) return result;
   if (!film_.factorize_at(P_, r_))
     throw Error("bearing '" + spec_.name + "': the film's Newton matrix is singular at the solution");
@@ -159,7 +160,7 @@ FilmResult FiniteBearing::evaluate_with_jacobian(const Kinematics& k) {
   return result;
 }
 
-FilmResult FiniteBearing::post_process(const Kinematics& k, const FilmAssembly& a) const {
+FilmResult FiniteBearing::post_process(const Kinematics& k, const FilmAssembly* a) const {
   const double R = spec_.radius(), c = spec_.radial_clearance, mu0 = spec_.viscosity;
   const bool jfo = spec_.cavitation == Cavitation::kJfo;
   const FilmProblem& f = film_.problem;
@@ -182,7 +183,7 @@ FilmResult FiniteBearing::post_process(const Kinematics& k, const FilmAssembly& 
       r.torque_journal += R * dA * (mu * (Us - Uj) / h * fill - 0.5 * h * dpdx);
       r.torque_shell += R * dA * (mu * (Uj - Us) / h * fill - 0.5 * h * dpdx);
       if (P_[m] > P_[m_max]) m_max = m;
-      if (f.supply[m]) r.feed_flow += flow_scale * a.M[m];
+      if (a && f.supply[m]) r.feed_flow += flow_scale * a->M[m];
     }
   }
   // Peak pressure: parabola through the highest cell and its two circumferential neighbours.
@@ -193,7 +194,7 @@ FilmResult FiniteBearing::post_process(const Kinematics& k, const FilmAssembly& 
   shift = std::clamp(shift, -0.5, 0.5);
   r.max_pressure = p_ref_ * (pc - 0.125 * (pe - pw) * (pe - pw) / (curv < 0 ? curv : -1e300));
   r.max_pressure_angle = wrap(((m_max % nt_) + 0.5 + shift) * dtheta_);
-  r.side_flow = flow_scale * a.side_flow;
+  r.side_flow = a ? flow_scale * a->side_flow : 0.0;
   r.power_loss =
       -(r.torque_journal * k.omega_journal + r.torque_shell * k.omega_shell + r.force.dot(k.e_dot));
   return r;

@@ -40,11 +40,12 @@ class FiniteBearing {
 
   /// Solve the film for this motion, warm-started from the previous solution (if any).
   /// Throws nvh::Error if |e| >= c or if Newton does not converge.
-  FilmResult evaluate(const Kinematics& k);
+  /// Detail::kForces leaves out the flows (side_flow, feed_flow: one assembly fewer).
+  FilmResult evaluate(const Kinematics& k, Detail detail = Detail::kFull);
   /// As evaluate, with the Jacobian (`jacobian`, `full_jacobian`) exact at the solution also when the
   /// options reuse factorizations (then the last step may have used an older one): it factorizes at the
   /// solution if needed. Without reuse_factorization the same as evaluate.
-  FilmResult evaluate_with_jacobian(const Kinematics& k);
+  FilmResult evaluate_with_jacobian(const Kinematics& k, Detail detail = Detail::kFull);
   /// Forget the previous solution: the next evaluation starts cold (full-film linear solve, clipped).
   void reset() { has_solution_ = false; }
 
@@ -61,7 +62,8 @@ class FiniteBearing {
  private:
   void mark_supply_cells();
   void set_motion(const Kinematics& k);
-  FilmResult post_process(const Kinematics& k, const FilmAssembly& a) const;
+  /// Forces, torques, film extremes and power loss from (P, r); the flows from the assembly `a` if given.
+  FilmResult post_process(const Kinematics& k, const FilmAssembly* a) const;
   void parameter_jacobian(const FilmAssembly& a, FilmResult& result);
   void torque_jacobian(FilmResult& result) const;
   void predict(const Kinematics& k);
@@ -81,6 +83,7 @@ class FiniteBearing {
   double p_ref_of_solution_ = 1;
   Kinematics kinematics_of_solution_;
   Eigen::VectorXd P_, r_;
+  FilmAssembly final_state_;  // the fluxes at the last solution (for the flows), kept to reuse its storage
   // d(P, r)/d(ex, ey, ex_dot, ey_dot) of the last solution (nondimensional P per SI unit): the predictor.
   bool has_sensitivity_ = false;
   Eigen::MatrixXd dP_dq_, dr_dq_;

@@ -19,11 +19,11 @@ FilmResult JournalBearing::evaluate(const Kinematics& k, Detail detail) {
     case Model::kFinite:
       break;
   }
-  return finite_->evaluate(k);
+  return finite_->evaluate(k, detail);
 }
 
 FilmResult JournalBearing::evaluate_with_jacobian(const Kinematics& k, Detail detail) {
-  return finite_ ? finite_->evaluate_with_jacobian(k) : evaluate(k, detail);
+  return finite_ ? finite_->evaluate_with_jacobian(k, detail) : evaluate(k, detail);
 }
 
 }  // namespace nvh::bearing

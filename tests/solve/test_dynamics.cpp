@@ -108,6 +108,7 @@ TEST(SolveOscillator, GeneralizedAlphaSecondOrderConvergence) {
 // Piston position r cos(a) + sqrt(l^2 - r^2 sin^2 a), a = omega t from top dead centre; its derivatives.
 struct SliderError {
   double position, velocity, acceleration, drift;
+  long jacobians = 0, newton_iterations = 0;
 };
 SliderError slider_crank_errors(const std::string& integrator, const std::string& name) {
   std::string text = "[output]\nsample_rate_hz = 20000\n";
@@ -129,6 +130,8 @@ SliderError slider_crank_errors(const std::string& integrator, const std::string
   const Eigen::MatrixXd pin = f.root().read_matrix("markers/crank.pin/position"),
                         big_end = f.root().read_matrix("markers/conrod.big_end/position");
   SliderError e{0, 0, 0, (pin - big_end).cwiseAbs().maxCoeff()};
+  e.jacobians = f.root().int_attribute("jacobian_evaluations", "solver/statistics");
+  e.newton_iterations = f.root().int_attribute("newton_iterations", "solver/statistics");
   for (Eigen::Index i = 0; i < t.size(); ++i) {
     const double ph = w * t[i], sn = std::sin(ph), cs = std::cos(ph), s = std::sqrt(l * l - r * r * sn * sn);
     const double ye = r * cs + s, ve = -r * w * sn - r * r * w * sn * cs / s;
@@ -151,6 +154,21 @@ TEST(SolveSliderCrank, IdaPistonMotionAgainstClosedForm) {
   EXPECT_LT(e.velocity, 1e-6);
   EXPECT_LT(e.acceleration, 1e-4);
   EXPECT_LT(e.drift, 1e-8);  // the crank pin and the conrod's big end stay together
+}
+
+// [integrator] jacobian_cj_change (IDASetDeltaCjLSetup): a larger value keeps a Jacobian over larger changes
+// of cj = alpha/h, so fewer Jacobians and more Newton iterations, at the same accuracy.
+TEST(SolveSliderCrank, JacobianCjChangeTradesJacobiansForNewtonIterations) {
+  const SliderError a = slider_crank_errors("[integrator]\nrtol = 1e-9\natol = 1e-11\n", "sc_cj_default");
+  const SliderError b =
+      slider_crank_errors("[integrator]\nrtol = 1e-9\natol = 1e-11\njacobian_cj_change = 0.6\n", "sc_cj_06");
+  std::printf("measured: jacobian_cj_change 0.25 / 0.6: Jacobians %ld / %ld, Newton iterations %ld / %ld, "
+              "position error %.3g / %.3g r\n",
+              a.jacobians, b.jacobians, a.newton_iterations, b.newton_iterations, a.position, b.position);
+  EXPECT_LT(b.jacobians, a.jacobians);
+  EXPECT_LT(b.position, 1e-7);  // the same bounds as at the default
+  EXPECT_LT(b.velocity, 1e-6);
+  EXPECT_LT(b.acceleration, 1e-4);
 }
 
 TEST(SolveSliderCrank, GeneralizedAlphaPistonMotionAgainstClosedForm) {
