@@ -14,15 +14,16 @@ namespace nvh::solve {
 namespace {
 // In a time integration successive film states are close: the finite film's Newton steps may reuse an
 // earlier factorization (FiniteSolverOptions::reuse_factorization); jacobian() asks for the exact one.
-bearing::FiniteSolverOptions film_options() {
+bearing::FiniteSolverOptions film_options(double tolerance) {
   bearing::FiniteSolverOptions o;
   o.reuse_factorization = true;
+  o.tolerance = tolerance;
   return o;
 }
 }  // namespace
 
-JournalBearingElement::JournalBearingElement(bearing::BearingSpec spec)
-    : bearing_(std::move(spec), film_options()) {}
+JournalBearingElement::JournalBearingElement(bearing::BearingSpec spec, double film_tolerance)
+    : bearing_(std::move(spec), film_options(film_tolerance)) {}
 
 bearing::Kinematics JournalBearingElement::kinematics(const MarkerMotion& i, const MarkerMotion& j) {
   const Vec3 d = i.position - j.position, d_dot = i.velocity - j.velocity;
@@ -185,7 +186,11 @@ void register_journal_bearing(ElementRegistry& r) {
          "hydrodynamic journal bearing (short, long or finite Reynolds with JFO cavitation; keys of docs/bearing.md) "
          "between journal centre i and shell centre j (z_j the bearing axis)",
          {"i", "j"}, [](ElementContext& c) -> std::unique_ptr<ForceElement> {
-           return std::make_unique<JournalBearingElement>(bearing::read_bearing(c.table));
+           // The finite film's Newton tolerance in a run (relative to 1 + the peak pressure; docs/bearing.md
+           // section 9): read here, not by read_bearing, because the bearing-map tool solves to 1e-9 always.
+           const double tolerance = c.table.number_or("film_tolerance", JournalBearingElement::kFilmTolerance,
+                                                      input::Range::closed(1e-13, 1e-4));
+           return std::make_unique<JournalBearingElement>(bearing::read_bearing(c.table), tolerance);
          }});
 }
 

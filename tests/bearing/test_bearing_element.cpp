@@ -19,6 +19,8 @@
 
 #include "../solve/solve_fixture.hpp"
 #include "solve/bearing/bearing_reader.hpp"
+#include "common/error.hpp"
+#include "solve/element_registry.hpp"
 #include "solve/journal_bearing_element.hpp"
 
 namespace nvh::solve {
@@ -277,6 +279,29 @@ TEST(bearing_element, WarmStartDoesNotDependOnHistory) {
   const JournalBearingElement cold(spec);
   const Vec3 f_cold = evaluate(cold, journal, shell).force;
   EXPECT_LT((f_warm - f_cold).norm() / f_cold.norm(), 1e-9);
+}
+
+// `film_tolerance`: the finite film's Newton tolerance in a run (default 1e-8, a hundredth of the default rtol),
+// read by the element's factory and handed to the film solver; out of range, an error naming the key.
+TEST(bearing_element, FilmToleranceReachesTheFilmSolverAndIsChecked) {
+  const ElementType& type = *builtin_elements().find("force", "journal-bearing");
+  std::vector<std::filesystem::path> files;
+  const auto build = [&](const std::string& extra) {
+    const auto doc = input::Document::parse(bearing_keys("finite", "grid = [24, 4]\n" + extra), "element.toml");
+    ElementContext context{doc.root(), ".", files, {}, {}};
+    return type.make(context);
+  };
+  const auto tolerance_of = [](const std::unique_ptr<ForceElement>& e) {
+    return dynamic_cast<const JournalBearingElement&>(*e).bearing().finite()->options().tolerance;
+  };
+  EXPECT_EQ(tolerance_of(build("")), JournalBearingElement::kFilmTolerance);
+  EXPECT_EQ(tolerance_of(build("film_tolerance = 1e-11\n")), 1e-11);
+  try {
+    build("film_tolerance = 0.1\n");
+    FAIL() << "no error for film_tolerance = 0.1";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("film_tolerance"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace
