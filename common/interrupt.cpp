@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <ctime>
 #include <csignal>
 #include <cstring>
 
@@ -23,12 +24,27 @@ char g_tool[64] = "nvh";
 volatile std::sig_atomic_t g_graceful = 0;
 volatile std::sig_atomic_t g_requested = 0;
 
-// Async-signal-safe: unlink, write and _exit only.
+// Monotonic seconds; clock_gettime is async-signal-safe (POSIX.1-2008, signal-safety(7)).
+double monotonic_seconds() {
+  timespec ts{};
+  ::clock_gettime(CLOCK_MONOTONIC, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+// When the graceful flag was set. A repeat within kRepeatWindow is the same request delivered twice: GNU
+// timeout sends its signal to the child and then to its whole process group, so the child gets two SIGTERMs
+// microseconds apart, and taking the second as "quit now" killed the run in the middle of writing its
+// checkpoint (found by tests/solve/test_restart.cpp).
+volatile double g_requested_at = 0;
+constexpr double kRepeatWindow = 2.0;  // s
+
+// Async-signal-safe: clock_gettime, unlink, write and _exit only.
 extern "C" void on_interrupt(int signal_number) {
   if (g_graceful && !g_requested) {
+    g_requested_at = monotonic_seconds();
     g_requested = signal_number;
     return;
   }
+  if (g_graceful && monotonic_seconds() - g_requested_at < kRepeatWindow) return;
   for (Slot& slot : g_slots) {
     if (slot.used.load()) ::unlink(slot.path);
   }

@@ -14,7 +14,8 @@ void install_interrupt_handler(const char* tool);
 
 /// Graceful mode (solve's time loop): a signal only sets a flag that the loop polls with
 /// interrupt_requested(), so it can flush its output and write a checkpoint before exiting with code 3.
-/// A second signal while the flag is set exits at once, as in the default mode.
+/// A second signal while the flag is set exits at once, as in the default mode, unless it comes within 2 s of
+/// the first (the same request delivered twice, as GNU timeout does: to the child, then to its group).
 void set_graceful_interrupt(bool on);
 bool interrupt_requested();
 /// The signal that set the flag (SIGINT or SIGTERM), 0 if none.
