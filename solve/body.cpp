@@ -136,9 +136,6 @@ MarkerMotion Ground::marker_motion(int marker, std::span<const double>, std::spa
   const auto& m = markers()[marker];
   return {m.position, m.axes, Vec3::Zero(), Vec3::Zero()};
 }
-MarkerJacobian Ground::marker_jacobian(int, std::span<const double>) const {
-  return {Eigen::Matrix<double, 3, Eigen::Dynamic>(3, 0), Eigen::Matrix<double, 3, Eigen::Dynamic>(3, 0)};
-}
 
 // ---------------------------------------------------------------- rigid body
 RigidBody::RigidBody(std::string name, double mass, const Mat3& inertia_cm, InitialState init)
@@ -177,11 +174,10 @@ void RigidBody::inertia_residual(std::span<const double>, std::span<const double
   Eigen::Map<Vec3>(rows.data() + 3) = inertia_ * vec3(wdot, 3) + omega.cross(inertia_ * omega);
 }
 
-Eigen::MatrixXd RigidBody::mass_matrix(std::span<const double>) const {
-  Eigen::MatrixXd m = Eigen::MatrixXd::Zero(6, 6);
+void RigidBody::mass_matrix(std::span<const double>, Eigen::Ref<Eigen::MatrixXd> m) const {
+  m.setZero();
   m.topLeftCorner<3, 3>() = mass_ * Mat3::Identity();
   m.bottomRightCorner<3, 3>() = inertia_;
-  return m;
 }
 
 MarkerMotion RigidBody::marker_motion(int marker, std::span<const double> q, std::span<const double> w) const {
@@ -193,14 +189,13 @@ MarkerMotion RigidBody::marker_motion(int marker, std::span<const double> q, std
 }
 
 // v_P = v + A (omega_b x s) = v - A s~ omega_b;  omega_P = A omega_b.
-MarkerJacobian RigidBody::marker_jacobian(int marker, std::span<const double> q) const {
+void RigidBody::marker_jacobian(int marker, std::span<const double> q, Eigen::Ref<Mat3X> jv,
+                                Eigen::Ref<Mat3X> jw) const {
   const Mat3 a = rotation_matrix(vec4(q, 3));
-  MarkerJacobian j{Eigen::Matrix<double, 3, Eigen::Dynamic>::Zero(3, 6),
-                   Eigen::Matrix<double, 3, Eigen::Dynamic>::Zero(3, 6)};
-  j.jv.leftCols<3>() = Mat3::Identity();
-  j.jv.rightCols<3>() = -a * skew(markers()[marker].position);
-  j.jw.rightCols<3>() = a;
-  return j;
+  jv.leftCols<3>() = Mat3::Identity();
+  jv.rightCols<3>() = -a * skew(markers()[marker].position);
+  jw.leftCols<3>().setZero();
+  jw.rightCols<3>() = a;
 }
 
 // Derivatives (Theta = d theta / dp, rotation.hpp): with s = A s0 the marker offset, every rotating vector
@@ -303,17 +298,15 @@ void PointMass::inertia_residual(std::span<const double>, std::span<const double
                                  std::span<double> rows) const {
   Eigen::Map<Vec3>(rows.data()) = mass_ * (vec3(wdot, 0) - gravity);
 }
-Eigen::MatrixXd PointMass::mass_matrix(std::span<const double>) const {
-  return mass_ * Eigen::MatrixXd::Identity(3, 3);
+void PointMass::mass_matrix(std::span<const double>, Eigen::Ref<Eigen::MatrixXd> m) const {
+  m = mass_ * Mat3::Identity();
 }
 MarkerMotion PointMass::marker_motion(int marker, std::span<const double> q, std::span<const double> w) const {
   return {vec3(q, 0), markers()[marker].axes, vec3(w, 0), Vec3::Zero()};
 }
-MarkerJacobian PointMass::marker_jacobian(int, std::span<const double>) const {
-  MarkerJacobian j{Eigen::Matrix<double, 3, Eigen::Dynamic>::Zero(3, 3),
-                   Eigen::Matrix<double, 3, Eigen::Dynamic>::Zero(3, 3)};
-  j.jv = Mat3::Identity();
-  return j;
+void PointMass::marker_jacobian(int, std::span<const double>, Eigen::Ref<Mat3X> jv, Eigen::Ref<Mat3X> jw) const {
+  jv = Mat3::Identity();
+  jw.setZero();
 }
 void PointMass::add_wrench(int, std::span<const double>, const Vec3& force, const Vec3&,
                            std::span<double> generalized) const {

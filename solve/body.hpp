@@ -31,8 +31,8 @@ struct MarkerMotion {
 
 /// d(velocity)/dw and d(angular velocity)/dw of a marker: 3 x (body's velocity count), global axes.
 struct MarkerJacobian {
-  Eigen::Matrix<double, 3, Eigen::Dynamic> jv;
-  Eigen::Matrix<double, 3, Eigen::Dynamic> jw;
+  Mat3X jv;
+  Mat3X jw;
   /// The same for a point rigidly attached to the marker at global offset d from its origin.
   MarkerJacobian shifted(const Vec3& d) const { return {jv - skew(d) * jw, jw}; }
 };
@@ -74,8 +74,14 @@ class Body {
   virtual void inertia_residual(std::span<const double> q, std::span<const double> w,
                                 std::span<const double> wdot, const Vec3& gravity,
                                 std::span<double> rows) const = 0;
-  /// The mass matrix M(q) (consistent initial accelerations).
-  virtual Eigen::MatrixXd mass_matrix(std::span<const double> q) const = 0;
+  /// The mass matrix M(q) (nw x nw) into `m`, without heap allocation (the model's Jacobian takes it per call).
+  virtual void mass_matrix(std::span<const double> q, Eigen::Ref<Eigen::MatrixXd> m) const = 0;
+  /// The same as a new matrix (consistent initial accelerations, energies, tests).
+  Eigen::MatrixXd mass_matrix(std::span<const double> q) const {
+    Eigen::MatrixXd m(velocity_count(), velocity_count());
+    mass_matrix(q, m);
+    return m;
+  }
 
   /// Markers.
   int add_marker(MarkerDefinition m) {
@@ -87,7 +93,16 @@ class Body {
 
   virtual MarkerMotion marker_motion(int marker, std::span<const double> q,
                                      std::span<const double> w) const = 0;
-  virtual MarkerJacobian marker_jacobian(int marker, std::span<const double> q) const = 0;
+  /// d(marker velocity, angular velocity)/dw: Jv and Jw (3 x nw each) into the given blocks, without heap
+  /// allocation.
+  virtual void marker_jacobian(int marker, std::span<const double> q, Eigen::Ref<Mat3X> jv,
+                               Eigen::Ref<Mat3X> jw) const = 0;
+  /// The same as a new MarkerJacobian.
+  MarkerJacobian marker_jacobian(int marker, std::span<const double> q) const {
+    MarkerJacobian j{Mat3X(3, velocity_count()), Mat3X(3, velocity_count())};
+    marker_jacobian(marker, q, j.jv, j.jw);
+    return j;
+  }
   /// [Jv w; Jw w]: the marker's velocity and angular velocity as the constraints' velocity rows use them
   /// (C w = D [Jv w; Jw w]; equal to marker_motion's on |p| = 1). Default: from marker_jacobian.
   virtual void marker_twist(int marker, std::span<const double> q, std::span<const double> w, Vec3& velocity,
@@ -144,9 +159,11 @@ class Ground final : public Body {
   Eigen::VectorXd position_rates(std::span<const double>, std::span<const double>) const override { return {}; }
   void inertia_residual(std::span<const double>, std::span<const double>, std::span<const double>,
                         const Vec3&, std::span<double>) const override {}
-  Eigen::MatrixXd mass_matrix(std::span<const double>) const override { return {}; }
+  using Body::mass_matrix;
+  using Body::marker_jacobian;
+  void mass_matrix(std::span<const double>, Eigen::Ref<Eigen::MatrixXd>) const override {}
   MarkerMotion marker_motion(int marker, std::span<const double>, std::span<const double>) const override;
-  MarkerJacobian marker_jacobian(int, std::span<const double>) const override;
+  void marker_jacobian(int, std::span<const double>, Eigen::Ref<Mat3X>, Eigen::Ref<Mat3X>) const override {}
   Vec3 reference_position(std::span<const double>) const override { return Vec3::Zero(); }
   Mat3 rotation(std::span<const double>) const override { return Mat3::Identity(); }
   double kinetic_energy(std::span<const double>, std::span<const double>) const override { return 0; }
@@ -189,10 +206,13 @@ class RigidBody final : public Body {
   Eigen::VectorXd position_rates(std::span<const double> q, std::span<const double> w) const override;
   void inertia_residual(std::span<const double> q, std::span<const double> w, std::span<const double> wdot,
                         const Vec3& gravity, std::span<double> rows) const override;
-  Eigen::MatrixXd mass_matrix(std::span<const double> q) const override;
+  using Body::mass_matrix;      // the allocating overloads, hidden otherwise
+  using Body::marker_jacobian;
+  void mass_matrix(std::span<const double> q, Eigen::Ref<Eigen::MatrixXd> m) const override;
   MarkerMotion marker_motion(int marker, std::span<const double> q,
                              std::span<const double> w) const override;
-  MarkerJacobian marker_jacobian(int marker, std::span<const double> q) const override;
+  void marker_jacobian(int marker, std::span<const double> q, Eigen::Ref<Mat3X> jv,
+                       Eigen::Ref<Mat3X> jw) const override;
   Vec3 reference_position(std::span<const double> q) const override;
   Mat3 rotation(std::span<const double> q) const override;
   double kinetic_energy(std::span<const double> q, std::span<const double> w) const override;
@@ -235,10 +255,13 @@ class PointMass final : public Body {
   Eigen::VectorXd position_rates(std::span<const double> q, std::span<const double> w) const override;
   void inertia_residual(std::span<const double> q, std::span<const double> w, std::span<const double> wdot,
                         const Vec3& gravity, std::span<double> rows) const override;
-  Eigen::MatrixXd mass_matrix(std::span<const double> q) const override;
+  using Body::mass_matrix;      // the allocating overloads, hidden otherwise
+  using Body::marker_jacobian;
+  void mass_matrix(std::span<const double> q, Eigen::Ref<Eigen::MatrixXd> m) const override;
   MarkerMotion marker_motion(int marker, std::span<const double> q,
                              std::span<const double> w) const override;
-  MarkerJacobian marker_jacobian(int marker, std::span<const double> q) const override;
+  void marker_jacobian(int marker, std::span<const double> q, Eigen::Ref<Mat3X> jv,
+                       Eigen::Ref<Mat3X> jw) const override;
   Vec3 reference_position(std::span<const double> q) const override;
   Mat3 rotation(std::span<const double>) const override { return Mat3::Identity(); }
   double kinetic_energy(std::span<const double> q, std::span<const double> w) const override;

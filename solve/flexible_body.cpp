@@ -29,7 +29,6 @@
 namespace nvh::solve {
 namespace {
 
-using Mat3X = Eigen::Matrix<double, 3, Eigen::Dynamic>;
 Eigen::Map<const Vec3> vec3(std::span<const double> s, int at) {
   return Eigen::Map<const Vec3>(s.data() + at);
 }
@@ -234,13 +233,12 @@ const Eigen::MatrixXd& FlexibleBody::inertia_terms(const Eigen::Ref<const Eigen:
   return ws_p_;
 }
 
-Eigen::MatrixXd FlexibleBody::mass_matrix(std::span<const double> q) const {
+void FlexibleBody::mass_matrix(std::span<const double> q, Eigen::Ref<Eigen::MatrixXd> m) const {
   const Mat3 a = rotation_matrix(vec4(q, 3));
   const auto eta = tail(q, 7, n_);
   Mat3 psi;
   const Eigen::MatrixXd& p = inertia_terms(eta, psi);
   const Vec3 mc = data_.first_moment + data_.translational * eta;
-  Eigen::MatrixXd m(6 + n_, 6 + n_);
   m.topLeftCorner<3, 3>() = data_.mass * Mat3::Identity();
   m.block<3, 3>(0, 3) = -a * skew(mc);
   m.block(0, 6, 3, n_).noalias() = a * data_.translational;
@@ -255,7 +253,6 @@ Eigen::MatrixXd FlexibleBody::mass_matrix(std::span<const double> q) const {
   m.block<3, 3>(3, 0) = m.block<3, 3>(0, 3).transpose();
   m.block(6, 0, n_, 3) = m.block(0, 6, 3, n_).transpose();
   m.block(6, 3, n_, 3) = m.block(3, 6, 3, n_).transpose();
-  return m;
 }
 
 // R = M(eta) w' + h(eta, w) - Q_g + [0; 0; K eta + D eta'] by blocks, without forming M. Gravity acts as an
@@ -360,18 +357,19 @@ void FlexibleBody::marker_twist(int marker, std::span<const double> q, std::span
 }
 
 // Jv = [1, -A s~, A Phi_t],  Jw = [0, A, A T(theta) Phi_r].
-MarkerJacobian FlexibleBody::marker_jacobian(int marker, std::span<const double> q) const {
+void FlexibleBody::marker_jacobian(int marker, std::span<const double> q, Eigen::Ref<Mat3X> jv,
+                                   Eigen::Ref<Mat3X> jw) const {
   const auto& pt = data_.points[point_of(marker)];
   const Mat3 a = rotation_matrix(vec4(q, 3));
   const auto eta = tail(q, 7, n_);
   const Vec3 s = pt.position + pt.translation * eta;
-  MarkerJacobian j{Mat3X::Zero(3, 6 + n_), Mat3X::Zero(3, 6 + n_)};
-  j.jv.leftCols<3>() = Mat3::Identity();
-  j.jv.block<3, 3>(0, 3) = -a * skew(s);
-  j.jv.rightCols(n_) = a * pt.translation;
-  j.jw.block<3, 3>(0, 3) = a;
-  j.jw.rightCols(n_) = a * angular_rate_matrix(pt.rotation * eta) * pt.rotation;
-  return j;
+  jv.leftCols<3>() = Mat3::Identity();
+  jv.block<3, 3>(0, 3) = -a * skew(s);
+  jv.rightCols(n_).noalias() = a * pt.translation;
+  jw.leftCols<3>().setZero();
+  jw.block<3, 3>(0, 3) = a;
+  const Mat3 ar = a * angular_rate_matrix(pt.rotation * eta);
+  jw.rightCols(n_).noalias() = ar * pt.rotation;
 }
 
 Vec3 FlexibleBody::reference_position(std::span<const double> q) const {

@@ -72,10 +72,12 @@ class FlexibleBody final : public Body {
   /// Blockwise from the invariants, without forming M(q); no heap allocation (the workspace below).
   void inertia_residual(std::span<const double> q, std::span<const double> w, std::span<const double> wdot,
                         const Vec3& gravity, std::span<double> rows) const override;
-  /// Allocates its result only.
-  Eigen::MatrixXd mass_matrix(std::span<const double> q) const override;
+  using Body::mass_matrix;      // the allocating overloads, hidden otherwise
+  using Body::marker_jacobian;
+  void mass_matrix(std::span<const double> q, Eigen::Ref<Eigen::MatrixXd> m) const override;
   MarkerMotion marker_motion(int marker, std::span<const double> q, std::span<const double> w) const override;
-  MarkerJacobian marker_jacobian(int marker, std::span<const double> q) const override;
+  void marker_jacobian(int marker, std::span<const double> q, Eigen::Ref<Mat3X> jv,
+                       Eigen::Ref<Mat3X> jw) const override;
   void marker_twist(int marker, std::span<const double> q, std::span<const double> w, Vec3& velocity,
                     Vec3& angular_velocity) const override;
   Vec3 reference_position(std::span<const double> q) const override;

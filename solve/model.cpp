@@ -2,6 +2,7 @@
 #include "solve/model.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <set>
 #include <sstream>
@@ -12,8 +13,17 @@
 
 namespace nvh::solve {
 
-// Preallocated per model (finalize): nothing in the residual or the Jacobian of rigid bodies and point masses
-// allocates.
+namespace {
+/// The chain rule through a marker: d(marker motion)/d(q, w) of its body (Model::jacobian).
+struct MarkerDerivatives {
+  int body = -1, nq = 0, nw = 0, q0 = 0, w0 = 0;  // columns of q and w in y
+  Eigen::MatrixXd s;                             // 12 x nq
+  Eigen::MatrixXd g;                             // 6 x nw: [Jv; Jw]
+};
+}  // namespace
+
+// Preallocated per model (finalize): the residual and the Jacobian allocate nothing (tested in
+// test_jacobian_flexible.cpp, ModelResidualAndJacobian.DoNotAllocate).
 struct Model::Workspace {
   Eigen::VectorXd q_force, ct_lambda, ct_mu, w_eff;
   std::vector<std::vector<MarkerMotion>> motions;  // per force element
@@ -28,8 +38,17 @@ struct Model::Workspace {
   std::vector<Eigen::MatrixXd> element_jacobian;  // per force element
   std::vector<Eigen::MatrixXd> element_rows_p, element_rows_m;  // per force element: wrench + state rows
   std::vector<Eigen::MatrixXd> kin_dw;            // per body: d(kinematic rows)/d(w_eff)
-  std::vector<Eigen::MatrixXd> sens_i, sens_j;    // per force-element marker / constraint (12 x nq)
-  Eigen::MatrixXd scratch_q, scratch_w, mass;
+  // largest sizes over the bodies; used through their top-left blocks
+  Eigen::MatrixXd scratch_q;   // max(nq, nw) x max(nq, nw)
+  Eigen::MatrixXd scratch_w;   // nw x nw: d(inertial rows)/dw
+  Eigen::MatrixXd mass;        // nw x nw
+  Eigen::MatrixXd gw;          // nw x 12
+  Eigen::MatrixXd pose;        // 6 x nq
+  Eigen::VectorXd g_row;       // nw
+  Eigen::MatrixXd radial;      // n x 4
+  std::vector<std::vector<MarkerDerivatives>> force_markers;            // per force element, per marker
+  std::vector<std::array<MarkerDerivatives, 2>> constraint_markers;     // per constraint: i, j
+  std::array<MarkerDerivatives, 2> clock_markers;
   std::vector<MarkerMotion> motion_scratch;
   std::vector<Wrench> wrench_scratch_p, wrench_scratch_m;
   std::vector<double> state_scratch_p, state_scratch_m, z_scratch, zp_scratch;
@@ -71,6 +90,8 @@ void Model::finalize() {
   k += 2;
   n_eq_ = 0;
   for (auto& c : constraints) {
+    if (c.constraint->size() > 6)
+      throw Error("joint '" + c.name + "': more than 6 equations (the Jacobian's buffers hold 6 per joint)");
     c.first_row = n_eq_;
     n_eq_ += c.constraint->size();
     c.active.assign(c.constraint->size(), 1);
@@ -128,7 +149,33 @@ void Model::finalize() {
     for (int k = w.pattern.column_start[col]; k < w.pattern.column_start[col + 1]; ++k) taken[g][w.pattern.rows[k]] = 1;
   }
   w.kin_dw.clear();
-  for (const auto& b : bodies) w.kin_dw.emplace_back(b->position_count(), b->velocity_count());
+  int max_nq = 0;
+  for (const auto& b : bodies) {
+    w.kin_dw.emplace_back(b->position_count(), b->velocity_count());
+    max_nq = std::max(max_nq, b->position_count());
+  }
+  const int max_n = std::max(max_nq, max_nw);
+  w.scratch_q.resize(max_n, max_n);
+  w.scratch_w.resize(max_nw, max_nw);
+  w.mass.resize(max_nw, max_nw);
+  w.gw.resize(max_nw, 12);
+  w.pose.resize(6, max_nq);
+  w.g_row.resize(max_nw);
+  w.radial.resize(size_, 4);
+  auto sized = [&](const MarkerRef& m) {
+    MarkerDerivatives d;
+    d.s.resize(12, bodies[m.body]->position_count());
+    d.g.resize(6, bodies[m.body]->velocity_count());
+    return d;
+  };
+  w.force_markers.clear();
+  for (const auto& f : forces) {
+    w.force_markers.emplace_back();
+    for (const auto& m : f.markers) w.force_markers.back().push_back(sized(m));
+  }
+  w.constraint_markers.clear();
+  for (const auto& c : constraints) w.constraint_markers.push_back({sized(c.i), sized(c.j)});
+  if (clock) w.clock_markers = {sized(clock->i), sized(clock->j)};
 }
 
 std::span<const double> Model::positions(int b, const double* y) const {
@@ -384,25 +431,23 @@ void Model::jacobian(double t, const double* y, const double* yp, double cj, std
     const auto q = positions(static_cast<int>(b), y);
     const auto wv = velocities(static_cast<int>(b), y);
     const int wo = w_global_offset_[b];
-    Eigen::VectorXd w_eff = Eigen::Map<const Eigen::VectorXd>(wv.data(), nw) - w.ct_mu.segment(wo, nw);
-    w.scratch_q.resize(nq, nq);
-    body.kinematic_jacobian(q, {w_eff.data(), std::size_t(nw)}, w.scratch_q, w.kin_dw[b]);
-    jm.block(o, o, nq, nq) = w.scratch_q;
+    auto w_eff = w.w_eff.head(nw);
+    w_eff = Eigen::Map<const Eigen::VectorXd>(wv.data(), nw) - w.ct_mu.segment(wo, nw);
+    auto kq = w.scratch_q.topLeftCorner(nq, nq);
+    body.kinematic_jacobian(q, {w_eff.data(), std::size_t(nw)}, kq, w.kin_dw[b]);
+    jm.block(o, o, nq, nq) = kq;
     jm.block(o, o, nq, nq).diagonal().array() += cj;
     jm.block(o, o + nq, nq, nw) = w.kin_dw[b];
-    w.scratch_q.resize(nw, nq);
-    w.scratch_w.resize(nw, nw);
-    body.inertia_jacobian(q, wv, {yp + o + nq, std::size_t(nw)}, gravity, w.scratch_q, w.scratch_w);
-    jm.block(o + nq, o, nw, nq) = w.scratch_q;
-    jm.block(o + nq, o + nq, nw, nw) = w.scratch_w + cj * body.mass_matrix(q);
+    auto iq = w.scratch_q.topLeftCorner(nw, nq);
+    auto iw = w.scratch_w.topLeftCorner(nw, nw);
+    body.inertia_jacobian(q, wv, {yp + o + nq, std::size_t(nw)}, gravity, iq, iw);
+    jm.block(o + nq, o, nw, nq) = iq;
+    auto mass = w.mass.topLeftCorner(nw, nw);
+    body.mass_matrix(q, mass);
+    jm.block(o + nq, o + nq, nw, nw) = iw + cj * mass;
   }
 
-  // The chain rule through a marker: d(marker motion)/d(q, w) of its body.
-  struct MarkerDerivatives {
-    int body = -1, nq = 0, nw = 0, q0 = 0, w0 = 0;  // columns of q and w in y
-    Eigen::MatrixXd s;                             // 12 x nq
-    Eigen::MatrixXd g;                             // 6 x nw: [Jv; Jw]
-  };
+  // The chain rule through a marker (d's matrices are sized by finalize).
   auto derivatives = [&](const MarkerRef& m, MarkerDerivatives& d) {
     const Body& body = *bodies[m.body];
     d.body = m.body;
@@ -411,28 +456,25 @@ void Model::jacobian(double t, const double* y, const double* yp, double cj, std
     d.q0 = body_offset_[m.body];
     d.w0 = d.q0 + d.nq;
     if (d.nq + d.nw == 0) return;
-    d.s.resize(12, d.nq);
     body.marker_sensitivity(m.marker, positions(m.body, y), velocities(m.body, y), d.s);
-    const MarkerJacobian j = body.marker_jacobian(m.marker, positions(m.body, y));
-    d.g.resize(6, d.nw);
-    d.g.topRows(3) = j.jv;
-    d.g.bottomRows(3) = j.jw;
+    auto jv = d.g.topRows<3>();
+    auto jw = d.g.bottomRows<3>();
+    body.marker_jacobian(m.marker, positions(m.body, y), jv, jw);
   };
   // rows += a * (d(motion)/d(y) of marker d), a: r x 12 (columns dp, dtheta, dv, domega).
   auto add_motion = [&](int row0, const Eigen::Ref<const Eigen::MatrixXd>& a, const MarkerDerivatives& d) {
     if (d.nq + d.nw == 0) return;
-    jm.block(row0, d.q0, a.rows(), d.nq) += a * d.s;
-    jm.block(row0, d.w0, a.rows(), d.nw) += a.rightCols<6>() * d.g;
+    jm.block(row0, d.q0, a.rows(), d.nq).noalias() += a * d.s;
+    jm.block(row0, d.w0, a.rows(), d.nw).noalias() += a.rightCols<6>() * d.g;
   };
   // dynamics rows of marker k's body += sign * G_k^T * a (a: 6 x cols at columns col0).
   auto add_to_dynamics = [&](const MarkerDerivatives& k, double sign, const Eigen::Ref<const Eigen::MatrixXd>& a,
                              int col0) {
     if (k.nw == 0) return;
-    jm.block(k.w0, col0, k.nw, a.cols()) += sign * k.g.transpose() * a;
+    jm.block(k.w0, col0, k.nw, a.cols()).noalias() += sign * k.g.transpose() * a;
   };
 
   // Force elements.
-  std::vector<MarkerDerivatives> md;
   for (std::size_t fi = 0; fi < forces.size(); ++fi) {
     const ForceEntry& fe = forces[fi];
     const int nm = static_cast<int>(fe.markers.size()), ns = fe.state_count;
@@ -491,7 +533,7 @@ void Model::jacobian(double t, const double* y, const double* yp, double cj, std
         difference(12 * nm + ns, h);
       }
     }
-    md.resize(nm);
+    std::vector<MarkerDerivatives>& md = w.force_markers[fi];
     for (int k = 0; k < nm; ++k) derivatives(fe.markers[k], md[k]);
     const int z0 = fe.state_offset, crank_col = 12 * nm + ns;
     for (int k = 0; k < nm; ++k) {
@@ -499,18 +541,20 @@ void Model::jacobian(double t, const double* y, const double* yp, double cj, std
       // -(G_k^T dW_k/d(motion_l)) d(motion_l)/dy
       for (int l = 0; l < nm; ++l) {
         if (md[l].nq + md[l].nw == 0) continue;
-        const Eigen::MatrixXd gw = -md[k].g.transpose() * e.block(6 * k, 12 * l, 6, 12);
+        auto gw = w.gw.topRows(md[k].nw);
+        gw.noalias() = -md[k].g.transpose() * e.block(6 * k, 12 * l, 6, 12);
         add_motion(md[k].w0, gw, md[l]);
       }
       if (ns > 0) add_to_dynamics(md[k], -1.0, e.block(6 * k, 12 * nm, 6, ns), z0);
       if (clock_index_ >= 0 && fe.element->uses_crank_angle())
         add_to_dynamics(md[k], -1.0, e.block(6 * k, crank_col, 6, 1), clock_index_);
       // the wrench's own change of direction in body coordinates, at fixed (F, T)
-      w.scratch_q.setZero(md[k].nw, md[k].nq);
+      auto dq = w.scratch_q.topLeftCorner(md[k].nw, md[k].nq);
+      dq.setZero();
       const Wrench& wr = w.wrenches[fi][k];
       bodies[md[k].body]->add_wrench_derivative(fe.markers[k].marker, positions(md[k].body, y), wr.force, wr.torque,
-                                                 w.scratch_q);
-      jm.block(md[k].w0, md[k].q0, md[k].nw, md[k].nq) -= w.scratch_q;
+                                                 dq);
+      jm.block(md[k].w0, md[k].q0, md[k].nw, md[k].nq) -= dq;
     }
     for (int s = 0; s < ns; ++s) {
       for (int l = 0; l < nm; ++l) add_motion(z0 + s, e.block(6 * nm + s, 12 * l, 1, 12), md[l]);
@@ -520,15 +564,17 @@ void Model::jacobian(double t, const double* y, const double* yp, double cj, std
   }
 
   // Constraints.
-  MarkerDerivatives di, dj;
+  // (a joint has at most 6 equations: the fixed-size-at-most matrices below live on the stack)
+  using Equations = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1>;
   for (std::size_t ci = 0; ci < constraints.size(); ++ci) {
     const auto& c = constraints[ci];
     const int m = c.constraint->size();
+    auto& [di, dj] = w.constraint_markers[ci];
     const MarkerMotion mi = marker_motion(c.i, y), mj = marker_motion(c.j, y);
     const ConstraintEquations& eq = w.equations[ci];  // evaluated by the residual above
     derivatives(c.i, di);
     derivatives(c.j, dj);
-    Eigen::VectorXd lambda(m), mu(m);
+    Equations lambda(m), mu(m);
     for (int e = 0; e < m; ++e) {
       const int row = c.first_row + e;
       lambda[e] = c.active[e] ? y[lambda_offset_ + row] : 0.0;
@@ -548,20 +594,23 @@ void Model::jacobian(double t, const double* y, const double* yp, double cj, std
       bodies[c.j.body]->marker_twist(c.j.marker, positions(c.j.body, y), velocities(c.j.body, y), v, omega);
       tj << v, omega;
     }
-    Eigen::MatrixXd dvel = Eigen::MatrixXd::Zero(m, 24);
-    Eigen::MatrixXd dreac_i = Eigen::MatrixXd::Zero(6, 24), dreac_j = Eigen::MatrixXd::Zero(6, 24);
+    Eigen::Matrix<double, Eigen::Dynamic, 24, 0, 6, 24> dvel = Eigen::MatrixXd::Zero(m, 24);
+    Eigen::Matrix<double, 6, 24> dreac_i = Eigen::Matrix<double, 6, 24>::Zero(), dreac_j = dreac_i;
     ConstraintEquations& pe = w.perturbed[ci];
     for (int side = 0; side < 2; ++side)
       for (int col = 0; col < 6; ++col) {
         const double h = col < 3 ? 1e-7 * std::max(1.0, std::abs((side ? mj : mi).position[col])) : 1e-7;
-        Eigen::VectorXd vel_p(m), vel_m(m);
+        Equations vel_p(m), vel_m(m);
         Eigen::Matrix<double, 6, 1> ri_p, rj_p, ri_m, rj_m;
         for (double sign : {1.0, -1.0}) {
           MarkerMotion a = mi, b = mj;
           perturb(side ? b : a, col, sign * h);
           pe.phi.setZero(), pe.di.setZero(), pe.dj.setZero(), pe.phi_t.setZero();
           c.constraint->evaluate(t, a, b, pe);
-          (sign > 0 ? vel_p : vel_m) = pe.di * ti + pe.dj * tj + pe.phi_t;
+          Equations& vel = sign > 0 ? vel_p : vel_m;  // D twist + Phi_t, term by term (no temporary)
+          vel.noalias() = pe.di * ti;
+          vel.noalias() += pe.dj * tj;
+          vel += pe.phi_t;
           (sign > 0 ? ri_p : ri_m) = pe.di.transpose() * lambda;
           (sign > 0 ? rj_p : rj_m) = pe.dj.transpose() * lambda;
         }
@@ -570,16 +619,13 @@ void Model::jacobian(double t, const double* y, const double* yp, double cj, std
         dreac_i.col(k) = (ri_p - ri_m) / (2 * h);
         dreac_j.col(k) = (rj_p - rj_m) / (2 * h);
       }
-    auto pose_part = [](const MarkerDerivatives& d, const Eigen::Ref<const Eigen::MatrixXd>& a) {
-      return Eigen::MatrixXd(a * d.s.topRows(6));  // a: r x 6 by (dp, dtheta)
-    };
     const int lam0 = lambda_offset_ + c.first_row, mu0 = mu_offset_ + c.first_row;
     // velocity rows: D's own change with the poses of both markers
     for (int other = 0; other < 2; ++other) {
       const MarkerDerivatives& o = other ? dj : di;
       if (o.nq == 0) continue;
       for (int e = 0; e < m; ++e)
-        if (c.active[e]) jm.block(lam0 + e, o.q0, 1, o.nq) += pose_part(o, dvel.block(e, 12 * other, 1, 6));
+        if (c.active[e]) jm.block(lam0 + e, o.q0, 1, o.nq).noalias() += dvel.block(e, 12 * other, 1, 6) * o.s.topRows(6);
     }
     for (int side = 0; side < 2; ++side) {
       const MarkerDerivatives& d = side ? dj : di;
@@ -588,30 +634,36 @@ void Model::jacobian(double t, const double* y, const double* yp, double cj, std
       for (int e = 0; e < m; ++e) {
         if (!c.active[e]) continue;
         // velocity rows: D [v; omega] + Phi_t
-        jm.block(lam0 + e, d.w0, 1, d.nw) += dm.row(e) * d.g;
-        jm.block(lam0 + e, d.q0, 1, d.nq) += dm.row(e) * d.s.bottomRows(6);
+        jm.block(lam0 + e, d.w0, 1, d.nw).noalias() += dm.row(e) * d.g;
+        jm.block(lam0 + e, d.q0, 1, d.nq).noalias() += dm.row(e) * d.s.bottomRows(6);
         // position rows: dPhi/d(pose) = D
-        jm.block(mu0 + e, d.q0, 1, d.nq) += dm.row(e) * d.s.topRows(6);
+        jm.block(mu0 + e, d.q0, 1, d.nq).noalias() += dm.row(e) * d.s.topRows(6);
       }
       if (d.nw == 0) continue;
       // dynamics rows: + G^T D^T lambda
       for (int e = 0; e < m; ++e)
-        if (c.active[e]) jm.block(d.w0, lam0 + e, d.nw, 1) += d.g.transpose() * dm.row(e).transpose();
-      const Eigen::MatrixXd& dreac = side ? dreac_j : dreac_i;
+        if (c.active[e]) jm.block(d.w0, lam0 + e, d.nw, 1).noalias() += d.g.transpose() * dm.row(e).transpose();
+      const Eigen::Matrix<double, 6, 24>& dreac = side ? dreac_j : dreac_i;
       for (int other = 0; other < 2; ++other) {
         const MarkerDerivatives& o = other ? dj : di;
         if (o.nq == 0) continue;
-        jm.block(d.w0, o.q0, d.nw, o.nq) += d.g.transpose() * pose_part(o, dreac.block(0, 12 * other, 6, 6));
+        auto pose = w.pose.leftCols(o.nq);  // d(D^T lambda)/d(pose of o) through o's coordinates
+        pose.noalias() = dreac.block<6, 6>(0, 12 * other) * o.s.topRows(6);
+        jm.block(d.w0, o.q0, d.nw, o.nq).noalias() += d.g.transpose() * pose;
       }
       const Eigen::Matrix<double, 6, 1> wr = dm.transpose() * lambda;
-      w.scratch_q.setZero(d.nw, d.nq);
+      auto dq = w.scratch_q.topLeftCorner(d.nw, d.nq);
+      dq.setZero();
       bodies[d.body]->add_wrench_derivative((side ? c.j : c.i).marker, positions(d.body, y), wr.head<3>(), wr.tail<3>(),
-                                            w.scratch_q);
-      jm.block(d.w0, d.q0, d.nw, d.nq) += w.scratch_q;
+                                            dq);
+      jm.block(d.w0, d.q0, d.nw, d.nq) += dq;
       // kinematic rows: w_eff = w - C^T mu, so d/dmu = -(d kin/d w_eff) G^T D^T
       for (int e = 0; e < m; ++e)
-        if (c.active[e])
-          jm.block(d.q0, mu0 + e, d.nq, 1) -= w.kin_dw[d.body] * (d.g.transpose() * dm.row(e).transpose());
+        if (c.active[e]) {
+          auto g_row = w.g_row.head(d.nw);
+          g_row.noalias() = d.g.transpose() * dm.row(e).transpose();
+          jm.block(d.q0, mu0 + e, d.nq, 1).noalias() -= w.kin_dw[d.body] * g_row;
+        }
     }
   }
 
@@ -621,6 +673,7 @@ void Model::jacobian(double t, const double* y, const double* yp, double cj, std
     jm(r, r) += cj;
     const MarkerMotion mi = marker_motion(clock->i, y), mj = marker_motion(clock->j, y);
     const Vec3 z = mj.axes.col(2), dw = mi.angular_velocity - mj.angular_velocity;
+    auto& [di, dj] = w.clock_markers;
     derivatives(clock->i, di);
     derivatives(clock->j, dj);
     Eigen::Matrix<double, 1, 12> a = Eigen::Matrix<double, 1, 12>::Zero();
@@ -653,7 +706,8 @@ void Model::jacobian(double t, const double* y, const double* yp, double cj, std
     for (int b : group) {
       const int o = body_offset_[b] + 3;
       const Eigen::Vector4d u = Eigen::Map<const Eigen::Vector4d>(y + o).normalized();
-      jm.middleCols<4>(o) = (jm.middleCols<4>(o) * (Eigen::Matrix4d::Identity() - u * u.transpose())).eval();
+      w.radial.noalias() = jm.middleCols<4>(o) * (Eigen::Matrix4d::Identity() - u * u.transpose());
+      jm.middleCols<4>(o) = w.radial;
       const SparsityPattern& p = w.pattern;
       for (int k = p.column_start[o]; k < p.column_start[o + 1]; ++k) {
         const int r = p.rows[k];

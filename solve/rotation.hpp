@@ -14,6 +14,7 @@ using Vec3 = Eigen::Vector3d;
 using Mat3 = Eigen::Matrix3d;
 using Vec4 = Eigen::Vector4d;
 using Mat34 = Eigen::Matrix<double, 3, 4>;
+using Mat3X = Eigen::Matrix<double, 3, Eigen::Dynamic>;  // 3 x (a body's velocity count)
 
 /// The cross-product matrix: skew(a) b = a x b.
 inline Mat3 skew(const Vec3& a) {

@@ -469,6 +469,44 @@ TEST(FlexibleJacobianFunctions, DoNotAllocate) {
 #endif
 }
 
+// The whole model: a flexible and a rigid body, a revolute joint, a spring-damper and a load. The residual (called
+// once per Newton iteration) and the Jacobian allocate nothing once the workspace is warm.
+TEST(ModelResidualAndJacobian, DoNotAllocate) {
+#if defined(NVH_COUNT_ALLOCATIONS)
+  const fs::path dir = temp_dir("alloc_model");
+  write_beam(dir / "beam.h5", condense::ReductionMethod::kModal, true, 30);
+  for (const char* coupling : {"full", "linear"}) {
+    Scene s = parse_scene(flexible_scene(coupling, 0), "flexible_jacobian.toml", dir);
+    Model& m = s.model;
+    std::ostringstream sink;
+    const Logger log(sink, "test", Verbosity::kQuiet);
+    Eigen::VectorXd y, yp;
+    m.consistent_initial_state(0.0, y, yp, log);
+    Eigen::VectorXd f(m.size());
+    std::vector<double> values;
+    m.residual(0.0, y.data(), yp.data(), f.data());
+    m.jacobian(0.0, y.data(), yp.data(), 100.0, values);  // warm: the workspace and `values` get their sizes
+    g_allocations = 0;
+    g_counting = true;
+    m.residual(0.001, y.data(), yp.data(), f.data());
+    g_counting = false;
+    const long residual = g_allocations.load();
+    g_allocations = 0;
+    g_counting = true;
+    m.jacobian(0.001, y.data(), yp.data(), 200.0, values);
+    g_counting = false;
+    const long jacobian = g_allocations.load();
+    std::printf("measured: %s coupling: heap allocations per residual %ld, per Jacobian %ld\n", coupling, residual,
+                jacobian);
+    EXPECT_EQ(residual, 0) << coupling;
+    EXPECT_EQ(jacobian, 0) << coupling;
+  }
+  fs::remove_all(dir);
+#else
+  GTEST_SKIP() << "allocation counting needs glibc";
+#endif
+}
+
 // ---------------------------------------------------------------- 4. time of the model's Jacobian
 /// A body that forwards everything to a flexible body but its derivatives: it inherits Body's defaults
 /// (local differences, add_wrench through marker_jacobian) - the state before the closed forms.
@@ -494,12 +532,15 @@ class WithDefaultDerivatives final : public Body {
                         const Vec3& gravity, std::span<double> rows) const override {
     b_->inertia_residual(q, w, wdot, gravity, rows);
   }
-  Eigen::MatrixXd mass_matrix(std::span<const double> q) const override { return b_->mass_matrix(q); }
+  using Body::mass_matrix;
+  using Body::marker_jacobian;
+  void mass_matrix(std::span<const double> q, Eigen::Ref<Eigen::MatrixXd> m) const override { b_->mass_matrix(q, m); }
   MarkerMotion marker_motion(int marker, std::span<const double> q, std::span<const double> w) const override {
     return b_->marker_motion(marker, q, w);
   }
-  MarkerJacobian marker_jacobian(int marker, std::span<const double> q) const override {
-    return b_->marker_jacobian(marker, q);
+  void marker_jacobian(int marker, std::span<const double> q, Eigen::Ref<Mat3X> jv,
+                       Eigen::Ref<Mat3X> jw) const override {
+    b_->marker_jacobian(marker, q, jv, jw);
   }
   Vec3 reference_position(std::span<const double> q) const override { return b_->reference_position(q); }
   Mat3 rotation(std::span<const double> q) const override { return b_->rotation(q); }
