@@ -6,8 +6,12 @@
 
 namespace nvh::solve {
 namespace {
-Eigen::Map<const Vec3> vec3(std::span<const double> s, int at) { return Eigen::Map<const Vec3>(s.data() + at); }
-Eigen::Map<const Vec4> vec4(std::span<const double> s, int at) { return Eigen::Map<const Vec4>(s.data() + at); }
+Eigen::Map<const Vec3> vec3(std::span<const double> s, int at) {
+  return Eigen::Map<const Vec3>(s.data() + at);
+}
+Eigen::Map<const Vec4> vec4(std::span<const double> s, int at) {
+  return Eigen::Map<const Vec4>(s.data() + at);
+}
 }  // namespace
 
 void frame_kinematic_residual(std::span<const double> q, std::span<const double> qdot,
@@ -29,7 +33,9 @@ int Body::find_marker(const std::string& name) const {
 // ---------------------------------------------------------------- defaults: local differences
 namespace {
 /// The increment of a local difference in coordinate x.
-double increment(double x) { return 1e-7 * std::max(1.0, std::abs(x)); }
+double increment(double x) {
+  return 1e-7 * std::max(1.0, std::abs(x));
+}
 /// The small rotation theta with B = exp(theta~) A for nearby rotations A, B (to second order).
 Vec3 rotation_between(const Mat3& a, const Mat3& b) {
   const Mat3 r = b * a.transpose();
@@ -40,7 +46,8 @@ Vec3 rotation_between(const Mat3& a, const Mat3& b) {
 void Body::add_wrench(int marker, std::span<const double> q, const Vec3& force, const Vec3& torque,
                       std::span<double> generalized) const {
   const MarkerJacobian j = marker_jacobian(marker, q);
-  Eigen::Map<Eigen::VectorXd>(generalized.data(), j.jv.cols()) += j.jv.transpose() * force + j.jw.transpose() * torque;
+  Eigen::Map<Eigen::VectorXd>(generalized.data(), j.jv.cols()) +=
+      j.jv.transpose() * force + j.jw.transpose() * torque;
 }
 
 void Body::marker_twist(int marker, std::span<const double> q, std::span<const double> w, Vec3& velocity,
@@ -85,50 +92,47 @@ void Body::add_wrench_derivative(int marker, std::span<const double> q, const Ve
   }
 }
 
+namespace {
+// d(rows)/dq and d(rows)/dw by central differences of eval(q, w, rows) (the defaults of the two below).
+template <class Rows>
+void differences(std::span<const double> q, std::span<const double> w, int rows, const Rows& eval,
+                 Eigen::Ref<Eigen::MatrixXd> d_q, Eigen::Ref<Eigen::MatrixXd> d_w) {
+  std::vector<double> qq(q.begin(), q.end()), ww(w.begin(), w.end());
+  Eigen::VectorXd rp(rows), rm(rows);
+  auto column = [&](std::vector<double>& x, double x0, int k, Eigen::Ref<Eigen::MatrixXd> out) {
+    const double h = increment(x0);
+    x[k] = x0 + h, eval(qq, ww, rp);
+    x[k] = x0 - h, eval(qq, ww, rm);
+    x[k] = x0;
+    out.col(k) = (rp - rm) / (2 * h);
+  };
+  for (std::size_t k = 0; k < q.size(); ++k) column(qq, q[k], static_cast<int>(k), d_q);
+  for (std::size_t k = 0; k < w.size(); ++k) column(ww, w[k], static_cast<int>(k), d_w);
+}
+}  // namespace
+
 void Body::kinematic_jacobian(std::span<const double> q, std::span<const double> w_eff,
                               Eigen::Ref<Eigen::MatrixXd> d_q, Eigen::Ref<Eigen::MatrixXd> d_w) const {
-  const int nq = position_count(), nw = velocity_count();
+  const int nq = position_count();
   const std::vector<double> zero(nq, 0.0);
-  std::vector<double> qq(q.begin(), q.end()), ww(w_eff.begin(), w_eff.end());
-  Eigen::VectorXd rp(nq), rm(nq);
-  auto eval = [&](Eigen::VectorXd& r) { kinematic_residual(qq, zero, ww, {}, {r.data(), std::size_t(nq)}, {}); };
-  for (int k = 0; k < nq; ++k) {
-    const double h = increment(q[k]);
-    qq[k] = q[k] + h, eval(rp);
-    qq[k] = q[k] - h, eval(rm);
-    qq[k] = q[k];
-    d_q.col(k) = (rp - rm) / (2 * h);
-  }
-  for (int k = 0; k < nw; ++k) {
-    const double h = increment(w_eff[k]);
-    ww[k] = w_eff[k] + h, eval(rp);
-    ww[k] = w_eff[k] - h, eval(rm);
-    ww[k] = w_eff[k];
-    d_w.col(k) = (rp - rm) / (2 * h);
-  }
+  differences(
+      q, w_eff, nq,
+      [&](const std::vector<double>& qq, const std::vector<double>& ww, Eigen::VectorXd& r) {
+        kinematic_residual(qq, zero, ww, {}, {r.data(), std::size_t(nq)}, {});
+      },
+      d_q, d_w);
 }
 
-void Body::inertia_jacobian(std::span<const double> q, std::span<const double> w, std::span<const double> wdot,
-                            const Vec3& gravity, Eigen::Ref<Eigen::MatrixXd> d_q,
-                            Eigen::Ref<Eigen::MatrixXd> d_w) const {
-  const int nq = position_count(), nw = velocity_count();
-  std::vector<double> qq(q.begin(), q.end()), ww(w.begin(), w.end());
-  Eigen::VectorXd rp(nw), rm(nw);
-  auto eval = [&](Eigen::VectorXd& r) { inertia_residual(qq, ww, wdot, gravity, {r.data(), std::size_t(nw)}); };
-  for (int k = 0; k < nq; ++k) {
-    const double h = increment(q[k]);
-    qq[k] = q[k] + h, eval(rp);
-    qq[k] = q[k] - h, eval(rm);
-    qq[k] = q[k];
-    d_q.col(k) = (rp - rm) / (2 * h);
-  }
-  for (int k = 0; k < nw; ++k) {
-    const double h = increment(w[k]);
-    ww[k] = w[k] + h, eval(rp);
-    ww[k] = w[k] - h, eval(rm);
-    ww[k] = w[k];
-    d_w.col(k) = (rp - rm) / (2 * h);
-  }
+void Body::inertia_jacobian(std::span<const double> q, std::span<const double> w,
+                            std::span<const double> wdot, const Vec3& gravity,
+                            Eigen::Ref<Eigen::MatrixXd> d_q, Eigen::Ref<Eigen::MatrixXd> d_w) const {
+  const int nw = velocity_count();
+  differences(
+      q, w, nw,
+      [&](const std::vector<double>& qq, const std::vector<double>& ww, Eigen::VectorXd& r) {
+        inertia_residual(qq, ww, wdot, gravity, {r.data(), std::size_t(nw)});
+      },
+      d_q, d_w);
 }
 
 // ---------------------------------------------------------------- ground
@@ -180,7 +184,8 @@ void RigidBody::mass_matrix(std::span<const double>, Eigen::Ref<Eigen::MatrixXd>
   m.bottomRightCorner<3, 3>() = inertia_;
 }
 
-MarkerMotion RigidBody::marker_motion(int marker, std::span<const double> q, std::span<const double> w) const {
+MarkerMotion RigidBody::marker_motion(int marker, std::span<const double> q,
+                                      std::span<const double> w) const {
   const auto& m = markers()[marker];
   const Mat3 a = rotation_matrix(vec4(q, 3));
   const Vec3 s = a * m.position;
@@ -237,30 +242,36 @@ void RigidBody::add_wrench(int marker, std::span<const double> q, const Vec3& fo
   Eigen::Map<Vec3>(generalized.data()) += force;
   Eigen::Map<Vec3>(generalized.data() + 3) += s0.cross(a.transpose() * force) + a.transpose() * torque;
 }
-void RigidBody::add_wrench_derivative(int marker, std::span<const double> q, const Vec3& force, const Vec3& torque,
-                                      Eigen::Ref<Eigen::MatrixXd> out) const {
+void RigidBody::add_wrench_derivative(int marker, std::span<const double> q, const Vec3& force,
+                                      const Vec3& torque, Eigen::Ref<Eigen::MatrixXd> out) const {
   const Vec4 p = vec4(q, 3);
   const Mat3 at = rotation_matrix(p).transpose();
   const Mat34 theta = rotation_sensitivity(p);
   out.block<3, 4>(3, 3) += (skew(markers()[marker].position) * at * skew(force) + at * skew(torque)) * theta;
 }
 
-// Rows r' - v, p' - 1/2 L(p)^T omega + beta (p.p - 1) p  (L(p)^T omega = B(omega) p, rotation.hpp).
-void RigidBody::kinematic_jacobian(std::span<const double> q, std::span<const double> w_eff,
-                                   Eigen::Ref<Eigen::MatrixXd> d_q, Eigen::Ref<Eigen::MatrixXd> d_w) const {
-  const Vec4 p = vec4(q, 3);
+// Rows r' - v, p' - 1/2 L(p)^T omega + beta (p.p - 1) p  (L(p)^T omega = B(omega) p, rotation.hpp) of a
+// floating frame (rigid and flexible bodies): written into the first 7 rows, the rest zeroed.
+void floating_frame_kinematic_jacobian(const Vec4& p, const Vec3& omega, double beta,
+                                       Eigen::Ref<Eigen::MatrixXd> d_q, Eigen::Ref<Eigen::MatrixXd> d_w) {
   d_q.setZero();
   d_w.setZero();
-  d_q.block<4, 4>(3, 3) = -0.5 * rate_matrix(vec3(w_eff, 3)) +
-                          kNormalizationRate * ((p.squaredNorm() - 1.0) * Eigen::Matrix4d::Identity() +
-                                                2.0 * p * p.transpose());
+  d_q.block<4, 4>(3, 3) =
+      -0.5 * rate_matrix(omega) +
+      beta * ((p.squaredNorm() - 1.0) * Eigen::Matrix4d::Identity() + 2.0 * p * p.transpose());
   d_w.block<3, 3>(0, 0) = -Mat3::Identity();
   d_w.block<4, 3>(3, 3) = -0.5 * l_matrix(p).transpose();
 }
 
+void RigidBody::kinematic_jacobian(std::span<const double> q, std::span<const double> w_eff,
+                                   Eigen::Ref<Eigen::MatrixXd> d_q, Eigen::Ref<Eigen::MatrixXd> d_w) const {
+  floating_frame_kinematic_jacobian(vec4(q, 3), vec3(w_eff, 3), kNormalizationRate, d_q, d_w);
+}
+
 // Rows m (v' - g), J omega' + omega x J omega.
 void RigidBody::inertia_jacobian(std::span<const double>, std::span<const double> w, std::span<const double>,
-                                 const Vec3&, Eigen::Ref<Eigen::MatrixXd> d_q, Eigen::Ref<Eigen::MatrixXd> d_w) const {
+                                 const Vec3&, Eigen::Ref<Eigen::MatrixXd> d_q,
+                                 Eigen::Ref<Eigen::MatrixXd> d_w) const {
   const Vec3 omega = vec3(w, 3);
   d_q.setZero();
   d_w.setZero();
@@ -271,8 +282,12 @@ double RigidBody::potential_energy(std::span<const double> q, const Vec3& gravit
   return -mass_ * gravity.dot(vec3(q, 0));
 }
 
-Vec3 RigidBody::reference_position(std::span<const double> q) const { return vec3(q, 0); }
-Mat3 RigidBody::rotation(std::span<const double> q) const { return rotation_matrix(vec4(q, 3)); }
+Vec3 RigidBody::reference_position(std::span<const double> q) const {
+  return vec3(q, 0);
+}
+Mat3 RigidBody::rotation(std::span<const double> q) const {
+  return rotation_matrix(vec4(q, 3));
+}
 double RigidBody::kinetic_energy(std::span<const double>, std::span<const double> w) const {
   const Vec3 omega = vec3(w, 3);
   return 0.5 * mass_ * vec3(w, 0).squaredNorm() + 0.5 * omega.dot(inertia_ * omega);
@@ -282,8 +297,12 @@ double RigidBody::kinetic_energy(std::span<const double>, std::span<const double
 PointMass::PointMass(std::string name, double mass, InitialState init)
     : Body(std::move(name)), mass_(mass), init_(init) {}
 
-Eigen::VectorXd PointMass::initial_positions() const { return init_.position; }
-Eigen::VectorXd PointMass::initial_velocities() const { return init_.velocity; }
+Eigen::VectorXd PointMass::initial_positions() const {
+  return init_.position;
+}
+Eigen::VectorXd PointMass::initial_velocities() const {
+  return init_.velocity;
+}
 
 void PointMass::kinematic_residual(std::span<const double>, std::span<const double> qdot,
                                    std::span<const double> w_eff, std::span<const double>,
@@ -301,10 +320,12 @@ void PointMass::inertia_residual(std::span<const double>, std::span<const double
 void PointMass::mass_matrix(std::span<const double>, Eigen::Ref<Eigen::MatrixXd> m) const {
   m = mass_ * Mat3::Identity();
 }
-MarkerMotion PointMass::marker_motion(int marker, std::span<const double> q, std::span<const double> w) const {
+MarkerMotion PointMass::marker_motion(int marker, std::span<const double> q,
+                                      std::span<const double> w) const {
   return {vec3(q, 0), markers()[marker].axes, vec3(w, 0), Vec3::Zero()};
 }
-void PointMass::marker_jacobian(int, std::span<const double>, Eigen::Ref<Mat3X> jv, Eigen::Ref<Mat3X> jw) const {
+void PointMass::marker_jacobian(int, std::span<const double>, Eigen::Ref<Mat3X> jv,
+                                Eigen::Ref<Mat3X> jw) const {
   jv = Mat3::Identity();
   jw.setZero();
 }
@@ -319,13 +340,14 @@ void PointMass::marker_sensitivity(int, std::span<const double>, std::span<const
 }
 void PointMass::add_wrench_derivative(int, std::span<const double>, const Vec3&, const Vec3&,
                                       Eigen::Ref<Eigen::MatrixXd>) const {}
-void PointMass::kinematic_jacobian(std::span<const double>, std::span<const double>, Eigen::Ref<Eigen::MatrixXd> d_q,
-                                   Eigen::Ref<Eigen::MatrixXd> d_w) const {
+void PointMass::kinematic_jacobian(std::span<const double>, std::span<const double>,
+                                   Eigen::Ref<Eigen::MatrixXd> d_q, Eigen::Ref<Eigen::MatrixXd> d_w) const {
   d_q.setZero();
   d_w = -Eigen::MatrixXd::Identity(3, 3);
 }
 void PointMass::inertia_jacobian(std::span<const double>, std::span<const double>, std::span<const double>,
-                                 const Vec3&, Eigen::Ref<Eigen::MatrixXd> d_q, Eigen::Ref<Eigen::MatrixXd> d_w) const {
+                                 const Vec3&, Eigen::Ref<Eigen::MatrixXd> d_q,
+                                 Eigen::Ref<Eigen::MatrixXd> d_w) const {
   d_q.setZero();
   d_w.setZero();
 }
@@ -333,7 +355,9 @@ double PointMass::potential_energy(std::span<const double> q, const Vec3& gravit
   return -mass_ * gravity.dot(vec3(q, 0));
 }
 
-Vec3 PointMass::reference_position(std::span<const double> q) const { return vec3(q, 0); }
+Vec3 PointMass::reference_position(std::span<const double> q) const {
+  return vec3(q, 0);
+}
 double PointMass::kinetic_energy(std::span<const double>, std::span<const double> w) const {
   return 0.5 * mass_ * vec3(w, 0).squaredNorm();
 }

@@ -37,6 +37,12 @@ struct MarkerJacobian {
   MarkerJacobian shifted(const Vec3& d) const { return {jv - skew(d) * jw, jw}; }
 };
 
+/// d/dq and d/dw of the kinematic rows r' - v, p' - 1/2 L(p)^T omega + beta (p.p - 1) p of a floating frame
+/// (position, Euler parameters p, velocity, angular velocity omega in body axes): the first 7 rows of d_q
+/// (nq columns) and d_w (nw columns); everything else zeroed. Rigid and flexible bodies share it.
+void floating_frame_kinematic_jacobian(const Vec4& p, const Vec3& omega, double beta,
+                                       Eigen::Ref<Eigen::MatrixXd> d_q, Eigen::Ref<Eigen::MatrixXd> d_w);
+
 /// A marker as defined on the body, in the body's reference frame.
 struct MarkerDefinition {
   std::string name;

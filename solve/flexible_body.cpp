@@ -503,14 +503,7 @@ void FlexibleBody::add_wrench_derivative(int marker, std::span<const double> q, 
 // Rows r' - v, p' - 1/2 L(p)^T omega + beta (p.p - 1) p, eta' - eta_rate (as RigidBody::kinematic_jacobian).
 void FlexibleBody::kinematic_jacobian(std::span<const double> q, std::span<const double> w_eff,
                                       Eigen::Ref<Eigen::MatrixXd> d_q, Eigen::Ref<Eigen::MatrixXd> d_w) const {
-  const Vec4 p = vec4(q, 3);
-  d_q.setZero();
-  d_w.setZero();
-  d_q.block<4, 4>(3, 3) = -0.5 * rate_matrix(vec3(w_eff, 3)) +
-                          kNormalizationRate * ((p.squaredNorm() - 1.0) * Eigen::Matrix4d::Identity() +
-                                                2.0 * p * p.transpose());
-  d_w.block<3, 3>(0, 0) = -Mat3::Identity();
-  d_w.block<4, 3>(3, 3) = -0.5 * l_matrix(p).transpose();
+  floating_frame_kinematic_jacobian(vec4(q, 3), vec3(w_eff, 3), kNormalizationRate, d_q, d_w);
   d_w.block(7, 6, n_, n_).diagonal().setConstant(-1.0);
 }
 

@@ -17,8 +17,8 @@ namespace {
 /// The chain rule through a marker: d(marker motion)/d(q, w) of its body (Model::jacobian).
 struct MarkerDerivatives {
   int body = -1, nq = 0, nw = 0, q0 = 0, w0 = 0;  // columns of q and w in y
-  Eigen::MatrixXd s;                             // 12 x nq
-  Eigen::MatrixXd g;                             // 6 x nw: [Jv; Jw]
+  Eigen::MatrixXd s;                              // 12 x nq
+  Eigen::MatrixXd g;                              // 6 x nw: [Jv; Jw]
 };
 }  // namespace
 
@@ -32,22 +32,22 @@ struct Model::Workspace {
   std::vector<ConstraintEquations> perturbed;      // per constraint (local differences)
   std::vector<double> lambda_scratch;
   // Jacobian
-  Eigen::MatrixXd dense;                         // n x n
+  Eigen::MatrixXd dense;                                         // n x n
   Eigen::VectorXd f0, f_scratch, f_plus, y_scratch, yp_scratch;  // n
   SparsityPattern pattern;
-  std::vector<Eigen::MatrixXd> element_jacobian;  // per force element
+  std::vector<Eigen::MatrixXd> element_jacobian;                // per force element
   std::vector<Eigen::MatrixXd> element_rows_p, element_rows_m;  // per force element: wrench + state rows
-  std::vector<Eigen::MatrixXd> kin_dw;            // per body: d(kinematic rows)/d(w_eff)
+  std::vector<Eigen::MatrixXd> kin_dw;                          // per body: d(kinematic rows)/d(w_eff)
   // largest sizes over the bodies; used through their top-left blocks
-  Eigen::MatrixXd scratch_q;   // max(nq, nw) x max(nq, nw)
-  Eigen::MatrixXd scratch_w;   // nw x nw: d(inertial rows)/dw
-  Eigen::MatrixXd mass;        // nw x nw
-  Eigen::MatrixXd gw;          // nw x 12
-  Eigen::MatrixXd pose;        // 6 x nq
-  Eigen::VectorXd g_row;       // nw
-  Eigen::MatrixXd radial;      // n x 4
-  std::vector<std::vector<MarkerDerivatives>> force_markers;            // per force element, per marker
-  std::vector<std::array<MarkerDerivatives, 2>> constraint_markers;     // per constraint: i, j
+  Eigen::MatrixXd scratch_q;                                         // max(nq, nw) x max(nq, nw)
+  Eigen::MatrixXd scratch_w;                                         // nw x nw: d(inertial rows)/dw
+  Eigen::MatrixXd mass;                                              // nw x nw
+  Eigen::MatrixXd gw;                                                // nw x 12
+  Eigen::MatrixXd pose;                                              // 6 x nq
+  Eigen::VectorXd g_row;                                             // nw
+  Eigen::MatrixXd radial;                                            // n x 4
+  std::vector<std::vector<MarkerDerivatives>> force_markers;         // per force element, per marker
+  std::vector<std::array<MarkerDerivatives, 2>> constraint_markers;  // per constraint: i, j
   std::array<MarkerDerivatives, 2> clock_markers;
   std::vector<MarkerMotion> motion_scratch;
   std::vector<Wrench> wrench_scratch_p, wrench_scratch_m;
@@ -67,7 +67,8 @@ void Model::finalize() {
   int max_nw = 0;
   for (const auto& b : bodies) {
     if (b->algebraic_count() != 0)
-      throw Error("body '" + b->name() + "': bodies with algebraic coordinates are not supported by the model");
+      throw Error("body '" + b->name() +
+                  "': bodies with algebraic coordinates are not supported by the model");
     body_offset_.push_back(k);
     k += b->state_count();
     w_global_offset_.push_back(n_w_);
@@ -79,7 +80,8 @@ void Model::finalize() {
   for (auto& f : forces) {
     if (static_cast<int>(f.markers.size()) != f.element->marker_count())
       throw Error("force element '" + f.name + "' of type " + f.element->type() + " needs " +
-                  std::to_string(f.element->marker_count()) + " markers, got " + std::to_string(f.markers.size()));
+                  std::to_string(f.element->marker_count()) + " markers, got " +
+                  std::to_string(f.markers.size()));
     f.state_offset = k;
     f.state_count = static_cast<int>(f.element->states().size());
     k += f.state_count;
@@ -146,7 +148,8 @@ void Model::finalize() {
     }
     if (g == radial_groups_.size()) radial_groups_.emplace_back(), taken.emplace_back(size_, 0);
     radial_groups_[g].push_back(static_cast<int>(b));
-    for (int k = w.pattern.column_start[col]; k < w.pattern.column_start[col + 1]; ++k) taken[g][w.pattern.rows[k]] = 1;
+    for (int k = w.pattern.column_start[col]; k < w.pattern.column_start[col + 1]; ++k)
+      taken[g][w.pattern.rows[k]] = 1;
   }
   w.kin_dw.clear();
   int max_nq = 0;
@@ -226,7 +229,8 @@ std::string Model::describe_state(int k) const {
     const int o = body_offset_[b], nq = bodies[b]->position_count();
     if (k >= o && k < o + bodies[b]->state_count()) {
       const int r = k - o;
-      return "body '" + bodies[b]->name() + "' " + (r < nq ? "q[" + std::to_string(r) + "]" : "w[" + std::to_string(r - nq) + "]");
+      return "body '" + bodies[b]->name() + "' " +
+             (r < nq ? "q[" + std::to_string(r) + "]" : "w[" + std::to_string(r - nq) + "]");
     }
   }
   if (k == clock_index_) return "clock angle";
@@ -238,15 +242,18 @@ std::string Model::describe_state(int k) const {
   for (const auto& c : constraints) {
     for (int e = 0; e < c.constraint->size(); ++e) {
       const auto name = c.constraint->equation_names()[e];
-      if (k == lambda_offset_ + c.first_row + e) return c.constraint->type() + " '" + c.name + "' velocity equation " + name;
-      if (k == mu_offset_ + c.first_row + e) return c.constraint->type() + " '" + c.name + "' position equation " + name;
+      if (k == lambda_offset_ + c.first_row + e)
+        return c.constraint->type() + " '" + c.name + "' velocity equation " + name;
+      if (k == mu_offset_ + c.first_row + e)
+        return c.constraint->type() + " '" + c.name + "' position equation " + name;
     }
   }
   return "state " + std::to_string(k);
 }
 
 // ---------------------------------------------------------------- residual
-void Model::evaluate_element(std::size_t fi, double t, const double* y, const double* yp, double* state_rows) const {
+void Model::evaluate_element(std::size_t fi, double t, const double* y, const double* yp,
+                             double* state_rows) const {
   auto& w = *ws_;
   const ForceEntry& f = forces[fi];
   const ElementInput in = element_input(f, t, y, yp, w.motions[fi]);
@@ -269,7 +276,7 @@ void Model::residual(double t, const double* y, const double* yp, double* f) con
     eq.phi.setZero(), eq.di.setZero(), eq.dj.setZero(), eq.phi_t.setZero();
     c.constraint->evaluate(t, mi, mj, eq);
     Eigen::Matrix<double, 6, 1> twist_i, twist_j, li = Eigen::Matrix<double, 6, 1>::Zero(),
-                                                   lj = Eigen::Matrix<double, 6, 1>::Zero(), ui = li, uj = li;
+                                                  lj = Eigen::Matrix<double, 6, 1>::Zero(), ui = li, uj = li;
     // C w = D [Jv w; Jw w] (the form whose time derivative matches the position rows for any |p|)
     Vec3 v, omega;
     bodies[c.i.body]->marker_twist(c.i.marker, positions(c.i.body, y), velocities(c.i.body, y), v, omega);
@@ -321,10 +328,10 @@ void Model::residual(double t, const double* y, const double* yp, double* f) con
     const int wo = w_global_offset_[b];
     auto w_eff = w.w_eff.head(nw);
     w_eff = Eigen::Map<const Eigen::VectorXd>(y + o + nq, nw) - w.ct_mu.segment(wo, nw);
-    body.kinematic_residual({y + o, std::size_t(nq)}, {yp + o, std::size_t(nq)}, {w_eff.data(), std::size_t(nw)},
-                            {}, {f + o, std::size_t(nq)}, {});
-    body.inertia_residual({y + o, std::size_t(nq)}, {y + o + nq, std::size_t(nw)}, {yp + o + nq, std::size_t(nw)},
-                          gravity, {f + o + nq, std::size_t(nw)});
+    body.kinematic_residual({y + o, std::size_t(nq)}, {yp + o, std::size_t(nq)},
+                            {w_eff.data(), std::size_t(nw)}, {}, {f + o, std::size_t(nq)}, {});
+    body.inertia_residual({y + o, std::size_t(nq)}, {y + o + nq, std::size_t(nw)},
+                          {yp + o + nq, std::size_t(nw)}, gravity, {f + o + nq, std::size_t(nw)});
     Eigen::Map<Eigen::VectorXd>(f + o + nq, nw) += w.ct_lambda.segment(wo, nw) - w.q_force.segment(wo, nw);
   }
 
@@ -340,12 +347,14 @@ void Model::residual(double t, const double* y, const double* yp, double* f) con
 }
 
 // Uses the wrenches left in the workspace by the residual's element loop.
-void Model::element_powers(double t, const double* y, const double* yp, double& dissipated, double& input) const {
+void Model::element_powers(double t, const double* y, const double* yp, double& dissipated,
+                           double& input) const {
   auto& w = *ws_;
   dissipated = 0;
   input = driver_power(t, y);
   for (std::size_t b = 0; b < bodies.size(); ++b)
-    dissipated += bodies[b]->dissipated_power(positions(static_cast<int>(b), y), velocities(static_cast<int>(b), y));
+    dissipated +=
+        bodies[b]->dissipated_power(positions(static_cast<int>(b), y), velocities(static_cast<int>(b), y));
   for (std::size_t fi = 0; fi < forces.size(); ++fi) {
     const ForceEntry& fe = forces[fi];
     if (fe.element->is_source()) {
@@ -398,25 +407,38 @@ namespace {
 void perturb(MarkerMotion& m, int column, double h) {
   const int axis = column % 3;
   switch (column / 3) {
-    case 0: m.position[axis] += h; break;
-    case 1: m.axes = Eigen::AngleAxisd(h, Vec3::Unit(axis)).toRotationMatrix() * m.axes; break;
-    case 2: m.velocity[axis] += h; break;
-    default: m.angular_velocity[axis] += h; break;
+    case 0:
+      m.position[axis] += h;
+      break;
+    case 1:
+      m.axes = Eigen::AngleAxisd(h, Vec3::Unit(axis)).toRotationMatrix() * m.axes;
+      break;
+    case 2:
+      m.velocity[axis] += h;
+      break;
+    default:
+      m.angular_velocity[axis] += h;
+      break;
   }
 }
 double motion_step(const MarkerMotion& m, int column) {
   const int axis = column % 3;
   switch (column / 3) {
-    case 0: return 1e-7 * std::max(1.0, std::abs(m.position[axis]));
-    case 1: return 1e-7;
-    case 2: return 1e-7 * std::max(1.0, std::abs(m.velocity[axis]));
-    default: return 1e-7 * std::max(1.0, std::abs(m.angular_velocity[axis]));
+    case 0:
+      return 1e-7 * std::max(1.0, std::abs(m.position[axis]));
+    case 1:
+      return 1e-7;
+    case 2:
+      return 1e-7 * std::max(1.0, std::abs(m.velocity[axis]));
+    default:
+      return 1e-7 * std::max(1.0, std::abs(m.angular_velocity[axis]));
   }
 }
 
 }  // namespace
 
-void Model::jacobian(double t, const double* y, const double* yp, double cj, std::vector<double>& values) const {
+void Model::jacobian(double t, const double* y, const double* yp, double cj,
+                     std::vector<double>& values) const {
   auto& w = *ws_;
   if (w.dense.rows() != size_) w.dense.resize(size_, size_);
   Eigen::MatrixXd& jm = w.dense;
@@ -468,8 +490,8 @@ void Model::jacobian(double t, const double* y, const double* yp, double cj, std
     jm.block(row0, d.w0, a.rows(), d.nw).noalias() += a.rightCols<6>() * d.g;
   };
   // dynamics rows of marker k's body += sign * G_k^T * a (a: 6 x cols at columns col0).
-  auto add_to_dynamics = [&](const MarkerDerivatives& k, double sign, const Eigen::Ref<const Eigen::MatrixXd>& a,
-                             int col0) {
+  auto add_to_dynamics = [&](const MarkerDerivatives& k, double sign,
+                             const Eigen::Ref<const Eigen::MatrixXd>& a, int col0) {
     if (k.nw == 0) return;
     jm.block(k.w0, col0, k.nw, a.cols()).noalias() += sign * k.g.transpose() * a;
   };
@@ -498,7 +520,8 @@ void Model::jacobian(double t, const double* y, const double* yp, double cj, std
         for (auto& x : wr) x = Wrench{};
         ElementOutput out{wr, st};
         fe.element->evaluate(pin, out);
-        for (int k = 0; k < nm; ++k) rows.block<3, 1>(6 * k, 0) = wr[k].force, rows.block<3, 1>(6 * k + 3, 0) = wr[k].torque;
+        for (int k = 0; k < nm; ++k)
+          rows.block<3, 1>(6 * k, 0) = wr[k].force, rows.block<3, 1>(6 * k + 3, 0) = wr[k].torque;
         for (int s = 0; s < ns; ++s) rows(6 * nm + s, 0) = st[s];
       };
       auto difference = [&](int col, double h) {
@@ -552,14 +575,15 @@ void Model::jacobian(double t, const double* y, const double* yp, double cj, std
       auto dq = w.scratch_q.topLeftCorner(md[k].nw, md[k].nq);
       dq.setZero();
       const Wrench& wr = w.wrenches[fi][k];
-      bodies[md[k].body]->add_wrench_derivative(fe.markers[k].marker, positions(md[k].body, y), wr.force, wr.torque,
-                                                 dq);
+      bodies[md[k].body]->add_wrench_derivative(fe.markers[k].marker, positions(md[k].body, y), wr.force,
+                                                wr.torque, dq);
       jm.block(md[k].w0, md[k].q0, md[k].nw, md[k].nq) -= dq;
     }
     for (int s = 0; s < ns; ++s) {
       for (int l = 0; l < nm; ++l) add_motion(z0 + s, e.block(6 * nm + s, 12 * l, 1, 12), md[l]);
       jm.block(z0 + s, z0, 1, ns) += e.block(6 * nm + s, 12 * nm, 1, ns);
-      if (clock_index_ >= 0 && fe.element->uses_crank_angle()) jm(z0 + s, clock_index_) += e(6 * nm + s, crank_col);
+      if (clock_index_ >= 0 && fe.element->uses_crank_angle())
+        jm(z0 + s, clock_index_) += e(6 * nm + s, crank_col);
     }
   }
 
@@ -625,7 +649,8 @@ void Model::jacobian(double t, const double* y, const double* yp, double cj, std
       const MarkerDerivatives& o = other ? dj : di;
       if (o.nq == 0) continue;
       for (int e = 0; e < m; ++e)
-        if (c.active[e]) jm.block(lam0 + e, o.q0, 1, o.nq).noalias() += dvel.block(e, 12 * other, 1, 6) * o.s.topRows(6);
+        if (c.active[e])
+          jm.block(lam0 + e, o.q0, 1, o.nq).noalias() += dvel.block(e, 12 * other, 1, 6) * o.s.topRows(6);
     }
     for (int side = 0; side < 2; ++side) {
       const MarkerDerivatives& d = side ? dj : di;
@@ -642,7 +667,8 @@ void Model::jacobian(double t, const double* y, const double* yp, double cj, std
       if (d.nw == 0) continue;
       // dynamics rows: + G^T D^T lambda
       for (int e = 0; e < m; ++e)
-        if (c.active[e]) jm.block(d.w0, lam0 + e, d.nw, 1).noalias() += d.g.transpose() * dm.row(e).transpose();
+        if (c.active[e])
+          jm.block(d.w0, lam0 + e, d.nw, 1).noalias() += d.g.transpose() * dm.row(e).transpose();
       const Eigen::Matrix<double, 6, 24>& dreac = side ? dreac_j : dreac_i;
       for (int other = 0; other < 2; ++other) {
         const MarkerDerivatives& o = other ? dj : di;
@@ -654,8 +680,8 @@ void Model::jacobian(double t, const double* y, const double* yp, double cj, std
       const Eigen::Matrix<double, 6, 1> wr = dm.transpose() * lambda;
       auto dq = w.scratch_q.topLeftCorner(d.nw, d.nq);
       dq.setZero();
-      bodies[d.body]->add_wrench_derivative((side ? c.j : c.i).marker, positions(d.body, y), wr.head<3>(), wr.tail<3>(),
-                                            dq);
+      bodies[d.body]->add_wrench_derivative((side ? c.j : c.i).marker, positions(d.body, y), wr.head<3>(),
+                                            wr.tail<3>(), dq);
       jm.block(d.w0, d.q0, d.nw, d.nq) += dq;
       // kinematic rows: w_eff = w - C^T mu, so d/dmu = -(d kin/d w_eff) G^T D^T
       for (int e = 0; e < m; ++e)
@@ -687,9 +713,9 @@ void Model::jacobian(double t, const double* y, const double* yp, double cj, std
 
   // Euler parameters: the closed forms above are exact for changes of p tangent to |p| = 1 (rotations); a
   // radial change scales A(p) (rotation.hpp), which no marker rotation expresses. That one direction per
-  // floating body is a forward difference of the residual, J_p <- J_p (I - u u^T) + dF/du u^T with u = p / |p|
-  // (y and y' moved together: dF/dy + cj dF/dy'); bodies that share no row are moved together (one residual
-  // per group, radial_groups_).
+  // floating body is a forward difference of the residual, J_p <- J_p (I - u u^T) + dF/du u^T with u = p /
+  // |p| (y and y' moved together: dF/dy + cj dF/dy'); bodies that share no row are moved together (one
+  // residual per group, radial_groups_).
   const Eigen::VectorXd& f0 = w.f0;
   for (const auto& group : radial_groups_) {
     Eigen::VectorXd &yy = w.y_scratch, &yyp = w.yp_scratch;
@@ -715,7 +741,8 @@ void Model::jacobian(double t, const double* y, const double* yp, double cj, std
       }
     }
   }
-  if (!radial_groups_.empty()) residual(t, y, yp, w.f_scratch.data());  // the workspace (and a bearing's cache) back at this state
+  if (!radial_groups_.empty())
+    residual(t, y, yp, w.f_scratch.data());  // the workspace (and a bearing's cache) back at this state
 
   // Energy integrals: their rates only (they feed nothing back).
   jm(energy_offset_, energy_offset_) += cj;
@@ -765,7 +792,8 @@ void Model::consistent_initial_state(double t0, Eigen::VectorXd& y, Eigen::Vecto
     for (std::size_t b = 0; b < bodies.size(); ++b) {
       const int nq = bodies[b]->position_count(), nw = bodies[b]->velocity_count();
       if (nq == 0) continue;
-      const Eigen::VectorXd dq = bodies[b]->position_rates(positions(b, y.data()), {dw.data() + w_global_offset_[b], std::size_t(nw)});
+      const Eigen::VectorXd dq = bodies[b]->position_rates(
+          positions(b, y.data()), {dw.data() + w_global_offset_[b], std::size_t(nw)});
       y.segment(body_offset_[b], nq) += dq;
       if (bodies[b]->kind() != "point-mass" && nq >= 7) y.segment(body_offset_[b] + 3, 4).normalize();
     }
@@ -781,9 +809,12 @@ void Model::consistent_initial_state(double t0, Eigen::VectorXd& y, Eigen::Vecto
       if (it == 0) initial_violation = phi.lpNorm<Eigen::Infinity>();
       if (phi.lpNorm<Eigen::Infinity>() < 1e-13) break;
       apply_velocity_step(-cm.completeOrthogonalDecomposition().solve(phi));
-      if (it == 49) throw Error("the initial positions cannot be assembled: the joints' position equations are "
-                                "still violated by " + std::to_string(phi.lpNorm<Eigen::Infinity>()) +
-                                " after 50 corrections (check the markers' positions and axes)");
+      if (it == 49)
+        throw Error(
+            "the initial positions cannot be assembled: the joints' position equations are "
+            "still violated by " +
+            std::to_string(phi.lpNorm<Eigen::Infinity>()) +
+            " after 50 corrections (check the markers' positions and axes)");
     }
     if (initial_violation > 1e-9)
       log.info("initial positions assembled: joint violation " + std::to_string(initial_violation) + " -> " +
@@ -802,7 +833,8 @@ void Model::consistent_initial_state(double t0, Eigen::VectorXd& y, Eigen::Vecto
         for (int e = 0; e < c.constraint->size(); ++e)
           if (!independent.count(c.first_row + e)) {
             c.active[e] = 0;
-            msg << " " << c.constraint->type() << " '" << c.name << "' " << c.constraint->equation_names()[e] << ";";
+            msg << " " << c.constraint->type() << " '" << c.name << "' " << c.constraint->equation_names()[e]
+                << ";";
           }
       log.info(msg.str());
     }
@@ -819,10 +851,12 @@ void Model::consistent_initial_state(double t0, Eigen::VectorXd& y, Eigen::Vecto
 
   Eigen::VectorXd w(n_w_);
   for (std::size_t b = 0; b < bodies.size(); ++b)
-    w.segment(w_global_offset_[b], bodies[b]->velocity_count()) = y.segment(velocity_offset(b), bodies[b]->velocity_count());
+    w.segment(w_global_offset_[b], bodies[b]->velocity_count()) =
+        y.segment(velocity_offset(b), bodies[b]->velocity_count());
   auto store_w = [&] {
     for (std::size_t b = 0; b < bodies.size(); ++b)
-      y.segment(velocity_offset(b), bodies[b]->velocity_count()) = w.segment(w_global_offset_[b], bodies[b]->velocity_count());
+      y.segment(velocity_offset(b), bodies[b]->velocity_count()) =
+          w.segment(w_global_offset_[b], bodies[b]->velocity_count());
   };
 
   // 3. Velocities onto C w + Phi_t = 0: the correction of least kinetic energy (the mass-weighted projection
@@ -831,7 +865,9 @@ void Model::consistent_initial_state(double t0, Eigen::VectorXd& y, Eigen::Vecto
   Eigen::MatrixXd mass = Eigen::MatrixXd::Zero(n_w_, n_w_);
   for (std::size_t b = 0; b < bodies.size(); ++b) {
     const int nw = bodies[b]->velocity_count();
-    if (nw > 0) mass.block(w_global_offset_[b], w_global_offset_[b], nw, nw) = bodies[b]->mass_matrix(positions(b, y.data()));
+    if (nw > 0)
+      mass.block(w_global_offset_[b], w_global_offset_[b], nw, nw) =
+          bodies[b]->mass_matrix(positions(b, y.data()));
   }
   std::vector<int> keep;
   if (n_eq_ > 0) {
@@ -877,8 +913,9 @@ void Model::consistent_initial_state(double t0, Eigen::VectorXd& y, Eigen::Vecto
           residual(t0, y.data(), yp.data(), f1.data());
           v -= h;
           const double slope = (f1[k] - f0[k]) / h;
-          if (slope == 0) throw Error(fe.element->type() + " '" + fe.name + "': the row of its state " +
-                                      fe.element->states()[s].name + " does not depend on it");
+          if (slope == 0)
+            throw Error(fe.element->type() + " '" + fe.name + "': the row of its state " +
+                        fe.element->states()[s].name + " does not depend on it");
           v -= f0[k] / slope;
         }
       }
@@ -912,7 +949,8 @@ void Model::consistent_initial_state(double t0, Eigen::VectorXd& y, Eigen::Vecto
   }
   const Eigen::VectorXd sol = aug.fullPivLu().solve(rhs);
   for (std::size_t b = 0; b < bodies.size(); ++b)
-    yp.segment(velocity_offset(b), bodies[b]->velocity_count()) = sol.segment(w_global_offset_[b], bodies[b]->velocity_count());
+    yp.segment(velocity_offset(b), bodies[b]->velocity_count()) =
+        sol.segment(w_global_offset_[b], bodies[b]->velocity_count());
   for (int k = 0; k < na; ++k) y[lambda_offset_ + keep[k]] = sol[n_w_ + k];
 
   // 5. The energy integrals start at zero with the rates of this state.
@@ -928,14 +966,17 @@ SparsityPattern Model::jacobian_pattern() const {
   // Blocks: each body's states, the clock, each element's states, the energy integrals, each constraint's
   // lambda and mu. deps[r] = the column blocks row block r depends on.
   const int nb = static_cast<int>(bodies.size()), nf = static_cast<int>(forces.size());
-  const int clock_block = nb, element_block0 = nb + 1, energy_block = nb + 1 + nf, constraint_block0 = energy_block + 1;
+  const int clock_block = nb, element_block0 = nb + 1, energy_block = nb + 1 + nf,
+            constraint_block0 = energy_block + 1;
   const int nblocks = constraint_block0 + static_cast<int>(constraints.size());
   std::vector<std::vector<int>> block_rows(nblocks);
   for (int b = 0; b < nb; ++b)
-    for (int r = body_offset_[b]; r < body_offset_[b] + bodies[b]->state_count(); ++r) block_rows[b].push_back(r);
+    for (int r = body_offset_[b]; r < body_offset_[b] + bodies[b]->state_count(); ++r)
+      block_rows[b].push_back(r);
   if (clock_index_ >= 0) block_rows[clock_block].push_back(clock_index_);
   for (int f = 0; f < nf; ++f)
-    for (int s = 0; s < forces[f].state_count; ++s) block_rows[element_block0 + f].push_back(forces[f].state_offset + s);
+    for (int s = 0; s < forces[f].state_count; ++s)
+      block_rows[element_block0 + f].push_back(forces[f].state_offset + s);
   block_rows[energy_block] = {energy_offset_, energy_offset_ + 1};
   for (std::size_t c = 0; c < constraints.size(); ++c)
     for (int e = 0; e < constraints[c].constraint->size(); ++e) {
@@ -1019,7 +1060,8 @@ void Model::reaction(int ci, const double* y, Vec3& force, Vec3& torque) const {
   ConstraintEquations eq(c.constraint->size());
   c.constraint->evaluate(0.0, mi, mj, eq);
   Eigen::VectorXd lambda(c.constraint->size());
-  for (int e = 0; e < c.constraint->size(); ++e) lambda[e] = c.active[e] ? y[lambda_offset_ + c.first_row + e] : 0.0;
+  for (int e = 0; e < c.constraint->size(); ++e)
+    lambda[e] = c.active[e] ? y[lambda_offset_ + c.first_row + e] : 0.0;
   const Eigen::Matrix<double, 6, 1> ft = -eq.di.transpose() * lambda;
   force = ft.head<3>();
   torque = ft.tail<3>();
@@ -1048,14 +1090,16 @@ std::pair<double, double> Model::constraint_violation(double t, const double* y)
 
 double Model::total_kinetic_energy(const double* y) const {
   double e = 0;
-  for (std::size_t b = 0; b < bodies.size(); ++b) e += bodies[b]->kinetic_energy(positions(b, y), velocities(b, y));
+  for (std::size_t b = 0; b < bodies.size(); ++b)
+    e += bodies[b]->kinetic_energy(positions(b, y), velocities(b, y));
   return e;
 }
 
 EnergyBalance Model::energy(double t, const double* y, const double* yp) const {
   EnergyBalance e;
   e.kinetic = total_kinetic_energy(y);
-  for (std::size_t b = 0; b < bodies.size(); ++b) e.potential += bodies[b]->potential_energy(positions(static_cast<int>(b), y), gravity);
+  for (std::size_t b = 0; b < bodies.size(); ++b)
+    e.potential += bodies[b]->potential_energy(positions(static_cast<int>(b), y), gravity);
   std::vector<MarkerMotion> markers;
   for (const auto& f : forces) e.potential += f.element->energy(element_input(f, t, y, yp, markers)).stored;
   e.dissipated = y[energy_offset_];

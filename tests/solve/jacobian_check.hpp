@@ -1,11 +1,12 @@
 #pragma once
-// The test oracle of the model's analytic Jacobian (test_jacobian.cpp, test_jacobian_flexible.cpp): J = dF/dy +
-// cj dF/dy' at a random state near the consistent one, against central differences of the residual alone.
+// The test oracle of the model's analytic Jacobian (test_jacobian.cpp, test_jacobian_flexible.cpp): J = dF/dy
+// + cj dF/dy' at a random state near the consistent one, against central differences of the residual alone.
 //
-// J_fd(:, c) = [F(y + h e_c, y' + cj h e_c) - F(y - h e_c, y' - cj h e_c)] / (2 h), h = 1e-6 relative. The error
-// of an entry is |J - J_fd| / (largest |J_fd| of its row + 1e-3); `outside` is the largest |J_fd| outside the
-// sparsity pattern. Excluded by design (model.hpp): the energy integrals' rows, and mu = 0 in the states.
-// `spread` scales the random moves of positions and rotations, `modal` the flexible bodies' modal coordinates.
+// J_fd(:, c) = [F(y + h e_c, y' + cj h e_c) - F(y - h e_c, y' - cj h e_c)] / (2 h), h = 1e-6 relative. The
+// error of an entry is |J - J_fd| / (largest |J_fd| of its row + 1e-3); `outside` is the largest |J_fd|
+// outside the sparsity pattern. Excluded by design (model.hpp): the energy integrals' rows, and mu = 0 in the
+// states. `spread` scales the random moves of positions and rotations, `modal` the flexible bodies' modal
+// coordinates.
 #include <Eigen/Core>
 
 #include <random>
@@ -19,9 +20,9 @@
 namespace nvh::solve::testing {
 
 struct Comparison {
-  double worst = 0;          // largest |J - J_fd| / (row scale)
-  std::string where;         // the row and column of it
-  double outside = 0;        // largest |J_fd| outside the pattern
+  double worst = 0;    // largest |J - J_fd| / (row scale)
+  std::string where;   // the row and column of it
+  double outside = 0;  // largest |J_fd| outside the pattern
 };
 
 inline Comparison compare(Scene& scene, unsigned seed, double spread = 1.0, double modal = 1e-4) {
@@ -48,7 +49,8 @@ inline Comparison compare(Scene& scene, unsigned seed, double spread = 1.0, doub
   }
   if (m.clock_index() >= 0) y[m.clock_index()] += u(rng);
   for (const auto& f : m.forces)
-    for (int s = 0; s < f.state_count; ++s) y[f.state_offset + s] += 0.1 * u(rng), yp[f.state_offset + s] = u(rng);
+    for (int s = 0; s < f.state_count; ++s)
+      y[f.state_offset + s] += 0.1 * u(rng), yp[f.state_offset + s] = u(rng);
   for (int e = 0; e < m.constraint_equations(); ++e) {
     y[m.lambda_offset() + e] = 100.0 * u(rng);
     y[m.mu_offset() + e] = 0.0;
@@ -61,7 +63,8 @@ inline Comparison compare(Scene& scene, unsigned seed, double spread = 1.0, doub
   Eigen::MatrixXd ja = Eigen::MatrixXd::Zero(n, n);
   Eigen::MatrixXd inside = Eigen::MatrixXd::Zero(n, n);
   for (int c = 0; c < n; ++c)
-    for (int k = p.column_start[c]; k < p.column_start[c + 1]; ++k) ja(p.rows[k], c) = values[k], inside(p.rows[k], c) = 1;
+    for (int k = p.column_start[c]; k < p.column_start[c + 1]; ++k)
+      ja(p.rows[k], c) = values[k], inside(p.rows[k], c) = 1;
 
   Eigen::MatrixXd jf(n, n);
   Eigen::VectorXd fp(n), fm(n);
@@ -79,7 +82,8 @@ inline Comparison compare(Scene& scene, unsigned seed, double spread = 1.0, doub
     if (r == m.energy_offset() || r == m.energy_offset() + 1) continue;
     const double scale = jf.row(r).cwiseAbs().maxCoeff();
     for (int c = 0; c < n; ++c) {
-      if (inside(r, c) == 0) out.outside = std::max(out.outside, std::abs(jf(r, c)) / std::max(scale, 1e-300));
+      if (inside(r, c) == 0)
+        out.outside = std::max(out.outside, std::abs(jf(r, c)) / std::max(scale, 1e-300));
       const double err = std::abs(ja(r, c) - jf(r, c)) / (scale + 1e-3);
       if (err > out.worst) {
         out.worst = err;
