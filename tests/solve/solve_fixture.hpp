@@ -2,6 +2,7 @@
 // Run a scene given as text through solve's library and read its results back.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <sstream>
 #include <string>
@@ -63,6 +64,51 @@ inline std::string num(double v) {
   s.precision(17);
   s << v;
   return s.str();
+}
+
+// ------------------------------------------------------------------ a ball bouncing on a floor
+// A 0.5 kg point mass 1 mm above a floor at -1.5 m/s, Hunt-Crossley contact (k = 1e8 N/m^1.5, e = 0.7 at
+// 1 m/s): append [integrator] keys (test_dynamics.cpp, test_contact_events.cpp).
+inline const std::string kBallOnFloor = R"(
+[[body]]
+name = "ground"
+type = "ground"
+  [[body.marker]]
+  name = "floor"
+[[body]]
+name = "ball"
+type = "point-mass"
+mass = 0.5
+position = [0, 0, 0.001]
+velocity = [0, 0, -1.5]
+  [[body.marker]]
+  name = "c"
+[[force]]
+name = "impact"
+type = "contact"
+i = "ball.c"
+j = "ground.floor"
+stiffness = 1e8
+exponent = 1.5
+restitution = 0.7
+reference_speed = 1.0
+[clock]
+end_time = 0.004
+[output]
+sample_rate_hz = 100000
+)";
+
+// f = k d^n (1 + alpha d'): m v dv/(1 + alpha v) = -k d^n dd over an impact gives
+// G(v_out) = G(v_in), G(v) = v / alpha - ln(1 + alpha v) / alpha^2 (Hunt & Crossley 1975; Gilardi & Sharf,
+// Mech. Mach. Theory 37, 2002, eq. 17), solved by bisection for the rebound speed.
+inline double hunt_crossley_rebound(double alpha, double v_in) {
+  auto g = [&](double v) { return v / alpha - std::log1p(alpha * v) / (alpha * alpha); };
+  double lo = -1 / alpha + 1e-12, hi = -1e-12;
+  for (int it = 0; it < 200; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    (g(mid) > g(v_in) ? lo : hi) = mid;
+  }
+  return -0.5 * (lo + hi);
 }
 
 }  // namespace nvh::solve::testing

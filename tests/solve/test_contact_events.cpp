@@ -14,6 +14,7 @@ namespace nvh::solve {
 namespace {
 
 using testing::run_text;
+using testing::hunt_crossley_rebound;
 using testing::signal;
 
 constexpr double kG = 9.81, kHeight = 0.05;
@@ -109,17 +110,8 @@ TEST(ContactEvents, GeneralizedAlphaFirstContactAtTheClosedFormWithFewerRejected
 }
 
 // ------------------------------------------------------------------ the bounce
-// test_dynamics.cpp's ball: 0.5 kg at 1 mm, -1.5 m/s, no gravity; Hunt-Crossley with k = 1e8, n = 1.5,
+// The ball of solve_fixture.hpp (kBallOnFloor): 0.5 kg at 1 mm, -1.5 m/s, no gravity; Hunt-Crossley k = 1e8, n = 1.5,
 // e = 0.7 at 1 m/s. Rebound speed from G(v_out) = G(v_in), G(v) = v / alpha - ln(1 + alpha v) / alpha^2.
-double hunt_crossley_rebound(double alpha, double v_in) {
-  auto g = [&](double v) { return v / alpha - std::log1p(alpha * v) / (alpha * alpha); };
-  double lo = -1 / alpha + 1e-12, hi = -1e-12;
-  for (int it = 0; it < 200; ++it) {
-    const double mid = 0.5 * (lo + hi);
-    (g(mid) > g(v_in) ? lo : hi) = mid;
-  }
-  return -0.5 * (lo + hi);
-}
 
 struct Bounce {
   double restitution = 0;
@@ -127,34 +119,7 @@ struct Bounce {
 };
 
 Bounce bounce(const std::string& integrator, const std::string& name) {
-  const std::string text = R"(
-[[body]]
-name = "ground"
-type = "ground"
-  [[body.marker]]
-  name = "floor"
-[[body]]
-name = "ball"
-type = "point-mass"
-mass = 0.5
-position = [0, 0, 0.001]
-velocity = [0, 0, -1.5]
-  [[body.marker]]
-  name = "c"
-[[force]]
-name = "impact"
-type = "contact"
-i = "ball.c"
-j = "ground.floor"
-stiffness = 1e8
-exponent = 1.5
-restitution = 0.7
-reference_speed = 1.0
-[clock]
-end_time = 0.004
-[output]
-sample_rate_hz = 100000
-)" + integrator;
+  const std::string text = testing::kBallOnFloor + integrator;
   RunSummary summary;
   const auto file = run_text(text, name, &summary);
   const Eigen::VectorXd v = signal(file, "markers/ball.c/velocity", 2);

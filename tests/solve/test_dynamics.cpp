@@ -15,6 +15,7 @@ namespace nvh::solve {
 namespace {
 
 using testing::run_text;
+using testing::hunt_crossley_rebound;
 using testing::signal;
 constexpr double kPi = std::numbers::pi;
 
@@ -251,48 +252,10 @@ TEST(SolveRigidBody, MajorAxisSpinIsStable) {
 }
 
 // ------------------------------------------------------------------ Hunt-Crossley restitution
-// f = k d^n (1 + alpha d'): m v dv/(1 + alpha v) = -k d^n dd over an impact gives
-// G(v_out) = G(v_in), G(v) = v / alpha - ln(1 + alpha v) / alpha^2 (Hunt & Crossley 1975; Gilardi & Sharf,
-// Mech. Mach. Theory 37, 2002, eq. 17), solved here by bisection for the rebound speed.
-double hunt_crossley_rebound(double alpha, double v_in) {
-  auto g = [&](double v) { return v / alpha - std::log1p(alpha * v) / (alpha * alpha); };
-  double lo = -1 / alpha + 1e-12, hi = -1e-12;
-  for (int it = 0; it < 200; ++it) {
-    const double mid = 0.5 * (lo + hi);
-    (g(mid) > g(v_in) ? lo : hi) = mid;
-  }
-  return -0.5 * (lo + hi);
-}
+// (hunt_crossley_rebound and kBallOnFloor: solve_fixture.hpp)
 
 double restitution(const std::string& integrator, const std::string& name) {
-  const std::string text = R"(
-[[body]]
-name = "ground"
-type = "ground"
-  [[body.marker]]
-  name = "floor"
-[[body]]
-name = "ball"
-type = "point-mass"
-mass = 0.5
-position = [0, 0, 0.001]
-velocity = [0, 0, -1.5]
-  [[body.marker]]
-  name = "c"
-[[force]]
-name = "impact"
-type = "contact"
-i = "ball.c"
-j = "ground.floor"
-stiffness = 1e8
-exponent = 1.5
-restitution = 0.7
-reference_speed = 1.0
-[clock]
-end_time = 0.004
-[output]
-sample_rate_hz = 100000
-)" + integrator;
+  const std::string text = testing::kBallOnFloor + integrator;
   const auto file = run_text(text, name);
   const Eigen::VectorXd v = signal(file, "markers/ball.c/velocity", 2);
   return v[v.size() - 1] / 1.5;
