@@ -33,7 +33,7 @@ struct Model::Workspace {
   std::vector<double> lambda_scratch;
   // Jacobian
   Eigen::MatrixXd dense;                                         // n x n
-  Eigen::VectorXd f0, f_scratch, f_plus, y_scratch, yp_scratch;  // n
+  Eigen::VectorXd f0, f_plus, y_scratch, yp_scratch;  // n
   SparsityPattern pattern;
   std::vector<Eigen::MatrixXd> element_jacobian;                // per force element
   std::vector<Eigen::MatrixXd> element_rows_p, element_rows_m;  // per force element: wrench + state rows
@@ -128,7 +128,6 @@ void Model::finalize() {
   }
   w.dense.resize(0, 0);
   w.f0.resize(size_);
-  w.f_scratch.resize(size_);
   w.f_plus.resize(size_);
   w.y_scratch.resize(size_);
   w.yp_scratch.resize(size_);
@@ -741,8 +740,8 @@ void Model::jacobian(double t, const double* y, const double* yp, double cj,
       }
     }
   }
-  if (!radial_groups_.empty())
-    residual(t, y, yp, w.f_scratch.data());  // the workspace (and a bearing's cache) back at this state
+  // (The workspace now holds the last group's perturbed state: nothing reads it before the next residual
+  // refills it, and the journal bearings keep their last two film states, so no residual restores it.)
 
   // Energy integrals: their rates only (they feed nothing back).
   jm(energy_offset_, energy_offset_) += cj;
