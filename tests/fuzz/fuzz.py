@@ -188,6 +188,22 @@ def run_checked(command, cwd=None):
         raise SystemExit("fuzz: preparing the corpus failed: " + " ".join(map(str, command)) + "\n" + done.stderr)
 
 
+def write_uff58(path, values, dt):
+    """An ASCII Universal File dataset 58 (a time history in m/s^2), as postproc/uff58.cpp writes it."""
+    none = "NONE".ljust(80)
+    lines = ["    -1", "    58", "accel".ljust(80), none, none, none, none,
+             "%5i%10i%5i%10i %-10s%10i%4i %-10s%10i%4i" % (1, 0, 0, 0, "NONE", 1, 3, "NONE", 0, 0),
+             "%10i%10i%10i%13.6E%13.6E%13.5E" % (4, len(values), 1, 0.0, dt, 0.0),
+             "%10i%5i%5i%5i %-20s %-20s" % (17, 0, 0, 0, "Time", "s"),
+             "%10i%5i%5i%5i %-20s %-20s" % (12, 0, 0, 0, "accel", "m/s^2"),
+             "%10i%5i%5i%5i %-20s %-20s" % (0, 0, 0, 0, "NONE", "NONE"),
+             "%10i%5i%5i%5i %-20s %-20s" % (0, 0, 0, 0, "NONE", "NONE")]
+    for i in range(0, len(values), 4):
+        lines.append("".join("%20.12E" % v for v in values[i:i + 4]))
+    lines.append("    -1")
+    path.write_text("\n".join(lines) + "\n")
+
+
 def prepare_corpus(build, root):
     """Seed folders: one per target, each holding the seeds and the files they read."""
     condense, solve = build / "condense/condense", build / "solve/solve"
@@ -231,8 +247,9 @@ def prepare_corpus(build, root):
         for i in range(4000):
             t = i / 4000.0
             f.write(f"{t:.6f},{(i * 7919 % 1000) / 500.0 - 1.0:.6f},{100.0 * ((i * 104729) % 997) / 997.0:.4f}\n")
+    write_uff58(d / "signal.uff", [(i * 7919 % 1000) / 500.0 - 1.0 for i in range(2048)], 1.0 / 4096.0)
     run_checked([solve, seeds["scene"][0][0] / "slider_crank.toml", "-o", d / "results.h5", "-q"])
-    seeds["signal"] = [(d, "signal.csv")]
+    seeds["signal"] = [(d, "signal.csv"), (d, "signal.uff")]
     seeds["results"] = [(d, "results.h5")]
     return seeds
 
@@ -246,7 +263,8 @@ def postproc_command(rng, signal_file, results):
         address = rng.choice(["results.h5:/markers/crank.pin/position[1]", "results.h5:/crank_angle_deg",
                               "results.h5:/markers/crank.pin/acceleration[x]"])
     else:
-        address = rng.choice(["signal.csv:accel", "signal.csv:force", "signal.csv:1", "signal.csv:9"])
+        address = rng.choice(["signal.uff", "signal.uff:1", "signal.uff:2"] if signal_file.endswith(".uff") else
+                             ["signal.csv:accel", "signal.csv:force", "signal.csv:1", "signal.csv:9"])
     if sub == "orders" and not results and rng.random() < 0.5:
         address, extra = "signal.csv:accel", ["--angle", "signal.csv:force", "--angle-kind", "tacho"]
     else:
