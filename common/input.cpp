@@ -538,11 +538,11 @@ struct Table::Impl {
     return v.as_array();
   }
 
-  std::array<double, 3> to_vec3(const toml::value& v, const std::string& kp) const {
+  std::array<double, 3> to_vec3(const toml::value& v, const std::string& kp, const Range& range) const {
     const auto& a = to_array(v, kp, kVec3);
     if (a.size() != 3) fail_at(v, kp, std::string("expected ") + kVec3 + ", got " + std::to_string(a.size()));
     std::array<double, 3> out{};
-    for (std::size_t i = 0; i < 3; ++i) out[i] = to_number(a[i], indexed(kp, i), Range{});
+    for (std::size_t i = 0; i < 3; ++i) out[i] = to_number(a[i], indexed(kp, i), range);
     return out;
   }
 };
@@ -726,19 +726,19 @@ std::vector<std::string> Table::strings(std::string_view key) const {
   return out;
 }
 
-std::array<double, 3> Table::vec3(std::string_view key) const {
+std::array<double, 3> Table::vec3(std::string_view key, const Range& range) const {
   const toml::value* v = impl_->lookup(key);
   if (!v) impl_->missing(key, kVec3);
-  return impl_->to_vec3(*v, impl_->key_path(key));
+  return impl_->to_vec3(*v, impl_->key_path(key), range);
 }
 
-std::optional<std::array<double, 3>> Table::optional_vec3(std::string_view key) const {
+std::optional<std::array<double, 3>> Table::optional_vec3(std::string_view key, const Range& range) const {
   const toml::value* v = impl_->lookup(key);
   if (!v) return std::nullopt;
-  return impl_->to_vec3(*v, impl_->key_path(key));
+  return impl_->to_vec3(*v, impl_->key_path(key), range);
 }
 
-std::vector<std::array<double, 3>> Table::vec3_list(std::string_view key) const {
+std::vector<std::array<double, 3>> Table::vec3_list(std::string_view key, const Range& range) const {
   const std::string expected = "an array of 3-vectors [[x, y, z], ...]";
   const toml::value* v = impl_->lookup(key);
   if (!v) impl_->missing(key, expected);
@@ -746,11 +746,12 @@ std::vector<std::array<double, 3>> Table::vec3_list(std::string_view key) const 
   const auto& a = impl_->to_array(*v, kp, expected);
   std::vector<std::array<double, 3>> out;
   out.reserve(a.size());
-  for (std::size_t i = 0; i < a.size(); ++i) out.push_back(impl_->to_vec3(a[i], indexed(kp, i)));
+  for (std::size_t i = 0; i < a.size(); ++i) out.push_back(impl_->to_vec3(a[i], indexed(kp, i), range));
   return out;
 }
 
-std::vector<std::vector<double>> Table::number_rows(std::string_view key, std::size_t columns) const {
+std::vector<std::vector<double>> Table::number_rows(std::string_view key, std::size_t columns,
+                                                    const Range& range) const {
   const std::string expected = "an array of rows of " + std::to_string(columns) + " numbers [[a, b, ...], ...]";
   const toml::value* v = impl_->lookup(key);
   if (!v) impl_->missing(key, expected);
@@ -763,7 +764,7 @@ std::vector<std::vector<double>> Table::number_rows(std::string_view key, std::s
     if (row.size() != columns)
       impl_->fail_at(a[i], rp, "expected " + std::to_string(columns) + " numbers, got " + std::to_string(row.size()));
     std::vector<double> r;
-    for (std::size_t j = 0; j < columns; ++j) r.push_back(impl_->to_number(row[j], indexed(rp, j), Range{}));
+    for (std::size_t j = 0; j < columns; ++j) r.push_back(impl_->to_number(row[j], indexed(rp, j), range));
     out.push_back(std::move(r));
   }
   return out;

@@ -124,12 +124,14 @@ class Table {
   std::vector<std::int64_t> integers(std::string_view key, const Range& range = {}) const;
   std::vector<std::string> strings(std::string_view key) const;
   /// Exactly three numbers: a point or a direction in m (or as the key says).
-  std::array<double, 3> vec3(std::string_view key) const;
-  std::optional<std::array<double, 3>> optional_vec3(std::string_view key) const;
+  /// Each component must lie in `range` (finite by default).
+  std::array<double, 3> vec3(std::string_view key, const Range& range = {}) const;
+  std::optional<std::array<double, 3>> optional_vec3(std::string_view key, const Range& range = {}) const;
   /// An array of 3-vectors: [[x,y,z], ...].
-  std::vector<std::array<double, 3>> vec3_list(std::string_view key) const;
+  std::vector<std::array<double, 3>> vec3_list(std::string_view key, const Range& range = {}) const;
   /// An array of rows of exactly `columns` numbers: [[x, y], ...] (tables, matrices).
-  std::vector<std::vector<double>> number_rows(std::string_view key, std::size_t columns) const;
+  std::vector<std::vector<double>> number_rows(std::string_view key, std::size_t columns,
+                                               const Range& range = {}) const;
 
   // --- nested tables ---
   Table table(std::string_view key) const;
