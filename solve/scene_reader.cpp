@@ -1,4 +1,5 @@
 // The scene file reader: TOML -> Model + run settings (keys documented in docs/scene-format.md).
+#include <algorithm>
 #include <cmath>
 #include <iomanip>
 #include <map>
@@ -358,14 +359,21 @@ void SceneReader::read_output(const Table& root) {
     }
     t->finish();
   }
-  // Every sample is written: a run that ends by time may hold at most kMaxSamples of them (a larger count is
-  // a mistake of units, and it would fill the disk or never end). Named at the rate if given, else the end.
+  // Every sample is written: a run may hold at most kMaxSamples of them (a larger count is a mistake of
+  // units, and it would fill the disk or never end). A run that ends by crank angle is bounded by its
+  // end_time_limit: by default the time of kMaxSamples samples (a stalled crank then still ends), and one
+  // given must keep within them too. Named at the rate if given, else at the end.
+  const bool by_angle = s_.end_angle_deg > 0;
+  if (by_angle && !clock_->has("end_time_limit"))
+    s_.end_time = std::min(s_.end_time, s_.start_time + bounds::kMaxSamples / o.sample_rate_hz);
   const double samples = (s_.end_time - s_.start_time) * o.sample_rate_hz;
-  if (s_.end_angle_deg == 0 && samples > bounds::kMaxSamples) {
+  if (samples > bounds::kMaxSamples) {
     const auto output = root.optional_table("output");
     const bool at_rate = output && output->has("sample_rate_hz");
     const Table& where = at_rate ? *output : *clock_;
-    where.fail(at_rate ? "sample_rate_hz" : "end_time",
+    where.fail(at_rate    ? "sample_rate_hz"
+               : by_angle ? "end_time_limit"
+                          : "end_time",
                "the run from " + format_number(s_.start_time) + " s to " + format_number(s_.end_time) +
                    " s at " + format_number(o.sample_rate_hz) + " Hz gives " + format_number(samples) +
                    " samples, more than the limit of " + format_number(bounds::kMaxSamples) +

@@ -182,6 +182,12 @@ TEST(SolveSceneErrors, AbsurdValuesAreRefusedNamingTheKey) {
                  "step =", "integrator.step", "steps, more than the limit of 1e+10");
   expect_refused(kBase + "[clock]\ni = \"arm.pivot\"\nj = \"ground.a\"\nend_cycles = 1e300\n", "end_cycles",
                  "clock.end_cycles");
+  // A run by crank angle: an end_time_limit given keeps within the samples too; the default does by itself.
+  const std::string by_angle = kBase + "[clock]\ni = \"arm.pivot\"\nj = \"ground.a\"\nend_cycles = 2\n";
+  expect_refused(by_angle + "end_time_limit = 1e6\n", "end_time_limit", "clock.end_time_limit",
+                 "1e+10 samples, more than the limit of 1e+09");
+  const Scene scene = parse_scene(by_angle + "[output]\nsample_rate_hz = 1e5\n", "ok.toml", ".");
+  EXPECT_DOUBLE_EQ(scene.end_time, 1e4);  // 1e9 samples at 1e5 Hz
 }
 
 // CSV tables: a number that is not finite names the CSV file and its line, inside the error at the scene's
