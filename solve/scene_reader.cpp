@@ -313,8 +313,11 @@ void SceneReader::read_integrator(const Table& root) {
   auto& s = s_.integrator;
   s.method = t->optional_choice("method", {"ida", "generalized-alpha"}).value_or(s.method);
   s.rtol = t->number_or("rtol", s.rtol, Range::open(0.0, 1.0));
-  s.atol = t->number_or("atol", s.atol, Range::positive());
-  s.multiplier_atol = t->number_or("multiplier_atol", s.multiplier_atol, Range::positive());
+  // Absolute tolerances of positions (m, rad) above 1 and of multipliers (N, N m) above the coefficients'
+  // bound let the error test accept anything: the run ends "complete" with meaningless results.
+  s.atol = t->number_or("atol", s.atol, Range{0.0, 1.0, true, false});
+  s.multiplier_atol =
+      t->number_or("multiplier_atol", s.multiplier_atol, Range{0.0, bounds::kCoefficient, true, false});
   s.max_step = t->number_or("max_step", s.max_step, Range::closed(0.0, bounds::kTime));
   s.initial_step = t->number_or("initial_step", s.initial_step, Range::closed(0.0, bounds::kTime));
   s.max_order = static_cast<int>(t->optional_integer("max_order", Range::closed(1, 5)).value_or(s.max_order));

@@ -177,6 +177,7 @@ TEST(SolveSceneErrors, AbsurdValuesAreRefusedNamingTheKey) {
                  "output.sample_rate_hz", "1e+10 samples, more than the limit of 1e+09 samples per run");
   expect_refused(kBase + "[clock]\nend_time = 1e9\n", "end_time", "clock.end_time",
                  "more than the limit of 1e+09");
+  expect_refused(kBase + kClock + "[integrator]\natol = 1e308\n", "atol", "integrator.atol");
   // A fixed generalized-alpha step that could never reach the end.
   expect_refused(kBase + kClock + "[integrator]\nmethod = \"generalized-alpha\"\nstep = 1e-300\n",
                  "step =", "integrator.step", "steps, more than the limit of 1e+10");
