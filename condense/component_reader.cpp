@@ -25,9 +25,11 @@ const Range kMassRange = Range::closed(0.0, 1e12);  // kg, and kg m^2 for point 
 Material read_material(const std::string& name, const Table& t) {
   Material m;
   m.name = name;
-  m.E = t.number("E", Range{0.0, 1e15, true, false});  // Pa; diamond is 1.2e12
+  // Wide bounds: equivalent materials (a coil spring as a straight beam, testdata/compressor/spring.toml)
+  // fix only the products E A, E I, rho A and may be far from any real material.
+  m.E = t.number("E", Range{0.0, 1e18, true, false});  // Pa; diamond is 1.2e12
   m.nu = t.number("nu", Range::open(-1.0, 0.5));
-  m.rho = t.number("rho", Range::closed(1e-3, 1e6));  // kg/m^3; air is 1.2, osmium 2.3e4
+  m.rho = t.number("rho", Range::closed(1e-6, 1e12));  // kg/m^3; air is 1.2, osmium 2.3e4, that spring 3e8
   t.finish();
   return m;
 }
@@ -68,11 +70,11 @@ void read_beam(const Table& t, Component& c) {
     const Table& st = sections[i];
     BeamSection sec;
     sec.where = st.location();
-    // m^2 and m^4: from a 1 um wire to a 30 m shaft.
-    sec.A = st.number("A", Range::closed(1e-12, 1e3));
-    sec.Iy = st.number("Iy", Range::closed(1e-24, 1e6));
-    sec.Iz = st.number("Iz", Range::closed(1e-24, 1e6));
-    sec.J = st.number("J", Range::closed(1e-24, 1e6));
+    // m^2 and m^4: below a 1 um wire to beyond a 30 m shaft (equivalent sections included).
+    sec.A = st.number("A", Range::closed(1e-15, 1e3));
+    sec.Iy = st.number("Iy", Range::closed(1e-30, 1e6));
+    sec.Iz = st.number("Iz", Range::closed(1e-30, 1e6));
+    sec.J = st.number("J", Range::closed(1e-30, 1e6));
     sec.shear_factor = st.optional_number("shear_factor", Range::open(0.0, 2.0));
     sec.rotary_inertia = st.optional_boolean("rotary_inertia").value_or(true);
     sec.y_axis = st.optional_vec3("y_axis", kCoordinate);
