@@ -23,7 +23,7 @@ namespace nvh::solve {
 /// readers. Every number is finite (input::Range); these bounds lie orders of magnitude beyond any machine,
 /// so that no product the model forms of them overflows into inf and NaN results, and no run is without end.
 namespace bounds {
-inline constexpr double kLength = 1e6;        ///< m: positions, lengths
+inline constexpr double kLength = 1e3;        ///< m: positions, lengths (the assembly resolves 1e-13 m)
 inline constexpr double kClearance = 1.0;     ///< m: contact clearances (either sign)
 inline constexpr double kSpeed = 1e5;         ///< m/s
 inline constexpr double kAngularSpeed = 1e6;  ///< rad/s
