@@ -251,13 +251,128 @@ Error syntax_error_to_error(const toml::exception& e, const std::string& file) {
   return Error(message, SourceLocation{file, line_number, column}, "");
 }
 
+// ---------------------------------------------------------------------------------------------------------
+// Limits checked before toml11 sees the text (kMaxNesting, kMaxLineLength in input.hpp)
+
+/// Refuse arrays and inline tables nested deeper than kMaxNesting, dotted keys of more than kMaxNesting parts
+/// and lines longer than kMaxLineLength, in one linear pass: toml11 would overflow the stack on the first two
+/// and take quadratic time on the third. The scan follows TOML's strings and comments only as far as
+/// brackets, dots and line ends need it: a [, { or . inside "...", '...', """...""", '''...''' or a comment
+/// does not count, nor does a dot in a value (1.5). It never refuses a valid file within the limits; anything
+/// else wrong is left to toml11, which reports it with its location.
+void check_limits(const std::string& text, const std::string& name) {
+  enum class State { kCode, kBasic, kLiteral, kMultiBasic, kMultiLiteral, kComment };
+  State state = State::kCode;
+  std::vector<char> open;  // the enclosing '[' (array) and '{' (inline table) of the value being read
+  bool in_key = true;      // reading a key (or a [table] header) rather than a value
+  int key_parts = 1;
+  int line = 1;
+  std::size_t line_start = 0;
+  const std::size_t n = text.size();
+  auto at = [&](std::size_t i) { return SourceLocation{name, line, static_cast<int>(i - line_start) + 1}; };
+  auto starts = [&](std::size_t i, char quote) {
+    return i + 2 < n && text[i] == quote && text[i + 1] == quote && text[i + 2] == quote;
+  };
+  auto check_line = [&](std::size_t end) {
+    if (end - line_start <= kMaxLineLength) return;
+    throw Error("a line of " + std::to_string(end - line_start) + " bytes; the limit is " +
+                    std::to_string(kMaxLineLength) +
+                    " bytes per line (the TOML parser's time grows with the square of a line's length): "
+                    "split long arrays over several lines",
+                SourceLocation{name, line, 1}, "");
+  };
+  auto start_key = [&] {
+    in_key = true;
+    key_parts = 1;
+  };
+  // The closing delimiter of a multi-line string may be followed by up to two quotes of its content.
+  auto close_multi = [&](std::size_t& i, char quote) {
+    i += 2;
+    for (int extra = 0; extra < 2 && i + 1 < n && text[i + 1] == quote; ++extra) ++i;
+    state = State::kCode;
+  };
+  for (std::size_t i = 0; i < n; ++i) {
+    const char c = text[i];
+    if (c == '\n') {
+      check_line(i);
+      ++line;
+      line_start = i + 1;
+      // A comment ends here; so does a single-line string (unterminated: toml11 says so).
+      if (state == State::kComment || state == State::kBasic || state == State::kLiteral)
+        state = State::kCode;
+      if (state == State::kCode && open.empty()) start_key();  // outside an array a line starts with a key
+      continue;
+    }
+    switch (state) {
+      case State::kCode:
+        if (c == '#') {
+          state = State::kComment;
+        } else if (c == '"') {
+          state = starts(i, '"') ? (i += 2, State::kMultiBasic) : State::kBasic;
+        } else if (c == '\'') {
+          state = starts(i, '\'') ? (i += 2, State::kMultiLiteral) : State::kLiteral;
+        } else if (in_key) {
+          if (c == '.' && ++key_parts > kMaxNesting) {
+            throw Error("a dotted key of more than " + std::to_string(kMaxNesting) +
+                            " parts (the limit of this reader)",
+                        at(i), "");
+          }
+          if (c == '=' || c == ']') in_key = false;  // the value follows, or the [header] ends
+          if (c == '}' && !open.empty()) {           // an empty inline table {}
+            open.pop_back();
+            in_key = false;
+          }
+        } else if (c == '[' || c == '{') {
+          open.push_back(c);
+          if (static_cast<int>(open.size()) > kMaxNesting) {
+            throw Error("arrays and inline tables nested deeper than " + std::to_string(kMaxNesting) +
+                            " levels (the limit of this reader)",
+                        at(i), "");
+          }
+          if (c == '{') start_key();
+        } else if ((c == ']' || c == '}') && !open.empty()) {
+          open.pop_back();
+        } else if (c == ',' && !open.empty() && open.back() == '{') {
+          start_key();
+        }
+        break;
+      case State::kBasic:
+      case State::kMultiBasic:
+        if (c == '\\') {
+          if (i + 1 < n && text[i + 1] != '\n') ++i;  // an escaped character (a line-ending backslash stays)
+        } else if (state == State::kBasic && c == '"') {
+          state = State::kCode;
+        } else if (state == State::kMultiBasic && starts(i, '"')) {
+          close_multi(i, '"');
+        }
+        break;
+      case State::kLiteral:
+        if (c == '\'') state = State::kCode;
+        break;
+      case State::kMultiLiteral:
+        if (starts(i, '\'')) close_multi(i, '\'');
+        break;
+      case State::kComment:
+        break;
+    }
+  }
+  check_line(n);
+}
+
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------------------
 // Range
 
+namespace {
+bool subnormal(double x) {
+  return x != 0.0 && std::abs(x) < std::numeric_limits<double>::min();
+}
+}  // namespace
+
 bool Range::contains(double x) const {
-  if (std::isnan(x)) return false;
+  if (std::isnan(x) || subnormal(x)) return false;
+  if (std::isinf(x) && !infinite_allowed) return false;
   const bool above = lo_open ? x > lo : x >= lo;
   const bool below = hi_open ? x < hi : x <= hi;
   return above && below;
@@ -271,6 +386,15 @@ std::string Range::describe() const {
   if (no_lo) return std::string("a number ") + (hi_open ? "< " : "<= ") + format_double(hi);
   return std::string("a number in ") + (lo_open ? "(" : "[") + format_double(lo) + ", " + format_double(hi) +
          (hi_open ? ")" : "]");
+}
+
+std::string Range::refusal(double x) const {
+  if (std::isnan(x)) return "numbers must be finite";
+  if (std::isinf(x) && !infinite_allowed) return "numbers must be finite";
+  if (subnormal(x))
+    return "a subnormal number, below the smallest normal double 2.2e-308 in magnitude: write 0 or a "
+           "physical value";
+  return "";
 }
 
 // ---------------------------------------------------------------------------------------------------------
@@ -370,7 +494,12 @@ struct Table::Impl {
     } else {
       fail_at(v, kp, "expected " + range.describe() + ", got " + describe(v));
     }
-    if (!range.contains(x)) fail_at(v, kp, "expected " + range.describe() + ", got " + number_text(v));
+    if (!range.contains(x)) {
+      const std::string why = range.refusal(x);
+      fail_at(
+          v, kp,
+          "expected " + range.describe() + ", got " + number_text(v) + (why.empty() ? "" : " (" + why + ")"));
+    }
     return x;
   }
 
@@ -409,11 +538,11 @@ struct Table::Impl {
     return v.as_array();
   }
 
-  std::array<double, 3> to_vec3(const toml::value& v, const std::string& kp) const {
+  std::array<double, 3> to_vec3(const toml::value& v, const std::string& kp, const Range& range) const {
     const auto& a = to_array(v, kp, kVec3);
     if (a.size() != 3) fail_at(v, kp, std::string("expected ") + kVec3 + ", got " + std::to_string(a.size()));
     std::array<double, 3> out{};
-    for (std::size_t i = 0; i < 3; ++i) out[i] = to_number(a[i], indexed(kp, i), Range{});
+    for (std::size_t i = 0; i < 3; ++i) out[i] = to_number(a[i], indexed(kp, i), range);
     return out;
   }
 };
@@ -430,6 +559,7 @@ Document& Document::operator=(Document&&) noexcept = default;
 Document::~Document() = default;
 
 Document Document::parse(const std::string& text, const std::string& name) {
+  check_limits(text, name);
   auto shared = std::make_shared<detail::Shared>();
   shared->file = name;
   std::istringstream in(text);
@@ -596,19 +726,19 @@ std::vector<std::string> Table::strings(std::string_view key) const {
   return out;
 }
 
-std::array<double, 3> Table::vec3(std::string_view key) const {
+std::array<double, 3> Table::vec3(std::string_view key, const Range& range) const {
   const toml::value* v = impl_->lookup(key);
   if (!v) impl_->missing(key, kVec3);
-  return impl_->to_vec3(*v, impl_->key_path(key));
+  return impl_->to_vec3(*v, impl_->key_path(key), range);
 }
 
-std::optional<std::array<double, 3>> Table::optional_vec3(std::string_view key) const {
+std::optional<std::array<double, 3>> Table::optional_vec3(std::string_view key, const Range& range) const {
   const toml::value* v = impl_->lookup(key);
   if (!v) return std::nullopt;
-  return impl_->to_vec3(*v, impl_->key_path(key));
+  return impl_->to_vec3(*v, impl_->key_path(key), range);
 }
 
-std::vector<std::array<double, 3>> Table::vec3_list(std::string_view key) const {
+std::vector<std::array<double, 3>> Table::vec3_list(std::string_view key, const Range& range) const {
   const std::string expected = "an array of 3-vectors [[x, y, z], ...]";
   const toml::value* v = impl_->lookup(key);
   if (!v) impl_->missing(key, expected);
@@ -616,11 +746,12 @@ std::vector<std::array<double, 3>> Table::vec3_list(std::string_view key) const 
   const auto& a = impl_->to_array(*v, kp, expected);
   std::vector<std::array<double, 3>> out;
   out.reserve(a.size());
-  for (std::size_t i = 0; i < a.size(); ++i) out.push_back(impl_->to_vec3(a[i], indexed(kp, i)));
+  for (std::size_t i = 0; i < a.size(); ++i) out.push_back(impl_->to_vec3(a[i], indexed(kp, i), range));
   return out;
 }
 
-std::vector<std::vector<double>> Table::number_rows(std::string_view key, std::size_t columns) const {
+std::vector<std::vector<double>> Table::number_rows(std::string_view key, std::size_t columns,
+                                                    const Range& range) const {
   const std::string expected = "an array of rows of " + std::to_string(columns) + " numbers [[a, b, ...], ...]";
   const toml::value* v = impl_->lookup(key);
   if (!v) impl_->missing(key, expected);
@@ -633,7 +764,7 @@ std::vector<std::vector<double>> Table::number_rows(std::string_view key, std::s
     if (row.size() != columns)
       impl_->fail_at(a[i], rp, "expected " + std::to_string(columns) + " numbers, got " + std::to_string(row.size()));
     std::vector<double> r;
-    for (std::size_t j = 0; j < columns; ++j) r.push_back(impl_->to_number(row[j], indexed(rp, j), Range{}));
+    for (std::size_t j = 0; j < columns; ++j) r.push_back(impl_->to_number(row[j], indexed(rp, j), range));
     out.push_back(std::move(r));
   }
   return out;

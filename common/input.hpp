@@ -24,30 +24,57 @@
 
 namespace nvh::input {
 
-/// An accepted interval for a number: (lo, hi) with each end open or closed; defaults to all reals.
+/// An accepted interval for a number: (lo, hi) with each end open or closed; defaults to all finite reals.
+///
+/// Every range is finite by default: NaN, +inf and -inf are refused whatever the bounds (an infinite
+/// stiffness, clearance or sample rate never means what its writer hoped; it ends as NaN results or a run
+/// without end), and so are subnormal numbers (0 < |x| < 2.2e-308: no SI quantity of a machine is that small,
+/// and such a value overflows as soon as it divides). allow_infinite() lets +-inf through for a key that
+/// gives infinity a meaning (none does today).
 struct Range {
   double lo = -std::numeric_limits<double>::infinity();
   double hi = std::numeric_limits<double>::infinity();
   bool lo_open = false;
   bool hi_open = false;
+  bool infinite_allowed = false;
 
   static Range positive() { return {0.0, std::numeric_limits<double>::infinity(), true, false}; }
   static Range non_negative() { return {0.0, std::numeric_limits<double>::infinity(), false, false}; }
   static Range open(double lo, double hi) { return {lo, hi, true, true}; }
   static Range closed(double lo, double hi) { return {lo, hi, false, false}; }
   static Range at_least(double lo) { return {lo, std::numeric_limits<double>::infinity(), false, false}; }
+  static Range at_most(double hi) { return {-std::numeric_limits<double>::infinity(), hi, false, false}; }
+  /// |x| <= bound.
+  static Range magnitude(double bound) { return closed(-bound, bound); }
+  /// The same range, accepting +-inf where the bounds do.
+  Range allow_infinite() const {
+    Range r = *this;
+    r.infinite_allowed = true;
+    return r;
+  }
 
   bool contains(double x) const;
   /// e.g. "a number > 0", "a number in [0, 0.5)"
   std::string describe() const;
+  /// Why `x` is refused beyond the bounds ("numbers must be finite", ...), or "" if only the bounds refuse
+  /// it.
+  std::string refusal(double x) const;
 };
 
 class Table;
 
+/// Limits a file must keep before toml11 parses it (checked by a cheap scan of the text; docs/cli.md):
+/// toml11's parser recurses once per level of nested arrays and inline tables, so a file of a few KB such as
+/// `a = [[[[...` overflows the stack; and its time grows with the square of a line's length (100k numbers on
+/// one line take 12 s, the same numbers one per line 0.14 s). No real input comes near either limit.
+inline constexpr int kMaxNesting = 64;                ///< levels of [ and { (outside strings and comments)
+inline constexpr std::size_t kMaxLineLength = 65536;  ///< bytes on one line
+
 /// A parsed TOML file. Owns the parsed tree; Tables refer into it and must not outlive it.
 class Document {
  public:
-  /// Parse a file; a syntax error becomes nvh::Error with file, line and column.
+  /// Parse a file; a syntax error (or a file beyond kMaxNesting / kMaxLineLength) becomes nvh::Error with
+  /// file, line and column.
   static Document load(const std::filesystem::path& path);
   /// Parse text (tests); `name` stands for the file name in messages.
   static Document parse(const std::string& text, const std::string& name);
@@ -97,12 +124,14 @@ class Table {
   std::vector<std::int64_t> integers(std::string_view key, const Range& range = {}) const;
   std::vector<std::string> strings(std::string_view key) const;
   /// Exactly three numbers: a point or a direction in m (or as the key says).
-  std::array<double, 3> vec3(std::string_view key) const;
-  std::optional<std::array<double, 3>> optional_vec3(std::string_view key) const;
+  /// Each component must lie in `range` (finite by default).
+  std::array<double, 3> vec3(std::string_view key, const Range& range = {}) const;
+  std::optional<std::array<double, 3>> optional_vec3(std::string_view key, const Range& range = {}) const;
   /// An array of 3-vectors: [[x,y,z], ...].
-  std::vector<std::array<double, 3>> vec3_list(std::string_view key) const;
+  std::vector<std::array<double, 3>> vec3_list(std::string_view key, const Range& range = {}) const;
   /// An array of rows of exactly `columns` numbers: [[x, y], ...] (tables, matrices).
-  std::vector<std::vector<double>> number_rows(std::string_view key, std::size_t columns) const;
+  std::vector<std::vector<double>> number_rows(std::string_view key, std::size_t columns,
+                                               const Range& range = {}) const;
 
   // --- nested tables ---
   Table table(std::string_view key) const;

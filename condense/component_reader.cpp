@@ -14,12 +14,22 @@ namespace {
 using input::Range;
 using input::Table;
 
+// Bounds of a component's numbers (docs/component-format.md, "Numbers"). Every number is finite
+// (input::Range); these bounds lie orders of magnitude beyond any machine part, so that the element matrices
+// formed of them stay finite: beyond them a value ends as a singular or non-finite matrix, an error far from
+// the key that caused it.
+constexpr double kMaxLength = 1e6;  // m: coordinates, box and cylinder extents
+const Range kCoordinate = Range::magnitude(kMaxLength);
+const Range kMassRange = Range::closed(0.0, 1e12);  // kg, and kg m^2 for point inertias
+
 Material read_material(const std::string& name, const Table& t) {
   Material m;
   m.name = name;
-  m.E = t.number("E", Range::positive());
+  // Wide bounds: equivalent materials (a coil spring as a straight beam, testdata/compressor/spring.toml)
+  // fix only the products E A, E I, rho A and may be far from any real material.
+  m.E = t.number("E", Range{0.0, 1e18, true, false});  // Pa; diamond is 1.2e12
   m.nu = t.number("nu", Range::open(-1.0, 0.5));
-  m.rho = t.number("rho", Range::positive());
+  m.rho = t.number("rho", Range::closed(1e-6, 1e12));  // kg/m^3; air is 1.2, osmium 2.3e4, that spring 3e8
   t.finish();
   return m;
 }
@@ -38,7 +48,7 @@ void read_beam(const Table& t, Component& c) {
   beam.where = t.location();
   beam.material = t.string("material");
   if (!c.materials.count(beam.material)) t.fail("material", "unknown material \"" + beam.material + "\"");
-  beam.points = t.vec3_list("points");
+  beam.points = t.vec3_list("points", kCoordinate);
   if (beam.points.size() < 2) t.fail("points", "expected at least 2 points (one segment)");
   const int segments = static_cast<int>(beam.points.size()) - 1;
   for (int s = 0; s < segments; ++s) {
@@ -60,13 +70,14 @@ void read_beam(const Table& t, Component& c) {
     const Table& st = sections[i];
     BeamSection sec;
     sec.where = st.location();
-    sec.A = st.number("A", Range::positive());
-    sec.Iy = st.number("Iy", Range::positive());
-    sec.Iz = st.number("Iz", Range::positive());
-    sec.J = st.number("J", Range::positive());
+    // m^2 and m^4: below a 1 um wire to beyond a 30 m shaft (equivalent sections included).
+    sec.A = st.number("A", Range::closed(1e-15, 1e3));
+    sec.Iy = st.number("Iy", Range::closed(1e-30, 1e6));
+    sec.Iz = st.number("Iz", Range::closed(1e-30, 1e6));
+    sec.J = st.number("J", Range::closed(1e-30, 1e6));
     sec.shear_factor = st.optional_number("shear_factor", Range::open(0.0, 2.0));
     sec.rotary_inertia = st.optional_boolean("rotary_inertia").value_or(true);
-    sec.y_axis = st.optional_vec3("y_axis");
+    sec.y_axis = st.optional_vec3("y_axis", kCoordinate);
     if (sec.y_axis && std::hypot((*sec.y_axis)[0], (*sec.y_axis)[1], (*sec.y_axis)[2]) == 0.0) {
       st.fail("y_axis", "expected a non-zero direction");
     }
@@ -104,9 +115,9 @@ void read_beam(const Table& t, Component& c) {
     PointMass pm;
     pm.where = mt.location("at");
     pm.path = mt.path();
-    pm.at = mt.vec3("at");
-    pm.m = mt.number("m", Range::non_negative());
-    if (auto j = mt.optional_vec3("J")) {
+    pm.at = mt.vec3("at", kCoordinate);
+    pm.m = mt.number("m", kMassRange);
+    if (auto j = mt.optional_vec3("J", Range::magnitude(1e12))) {
       for (int k = 0; k < 3; ++k) {
         if ((*j)[k] < 0.0) mt.fail("J", "expected moments of inertia >= 0 (kg m^2)");
         pm.J[k] = (*j)[k];
@@ -119,8 +130,8 @@ void read_beam(const Table& t, Component& c) {
     RigidLink link;
     link.where = rt.location();
     link.path = rt.path();
-    link.from = rt.vec3("from");
-    link.to = rt.vec3("to");
+    link.from = rt.vec3("from", kCoordinate);
+    link.to = rt.vec3("to", kCoordinate);
     rt.finish();
     beam.rigid_links.push_back(link);
   }
@@ -129,7 +140,7 @@ void read_beam(const Table& t, Component& c) {
 
 /// [xmin, ymin, zmin, xmax, ymax, zmax] in m.
 std::array<double, 6> read_box(const Table& t, const std::string& key) {
-  const std::vector<double> box = t.numbers(key);
+  const std::vector<double> box = t.numbers(key, kCoordinate);
   if (box.size() != 6 || box[0] > box[3] || box[1] > box[4] || box[2] > box[5]) {
     t.fail(key, "expected [xmin, ymin, zmin, xmax, ymax, zmax] in m with min <= max");
   }
@@ -141,10 +152,10 @@ std::array<double, 6> read_box(const Table& t, const std::string& key) {
 CylinderSelector read_cylinder(const Table& t, const std::string& key) {
   const Table ct = t.table(key);
   CylinderSelector c;
-  c.point = ct.vec3("point");
-  c.axis = ct.vec3("axis");
+  c.point = ct.vec3("point", kCoordinate);
+  c.axis = ct.vec3("axis", kCoordinate);
   if (std::hypot(c.axis[0], c.axis[1], c.axis[2]) == 0.0) ct.fail("axis", "expected a non-zero direction");
-  const std::vector<double> r = ct.numbers("radius", Range::non_negative());
+  const std::vector<double> r = ct.numbers("radius", Range::closed(0.0, kMaxLength));
   if (r.size() != 2 || r[0] > r[1]) {
     ct.fail("radius",
             "expected the radius band [r_min, r_max] in m with 0 <= r_min <= r_max (a bore of "
@@ -153,7 +164,7 @@ CylinderSelector read_cylinder(const Table& t, const std::string& key) {
   c.r_min = r[0];
   c.r_max = r[1];
   if (ct.has("length")) {
-    const std::vector<double> s = ct.numbers("length");
+    const std::vector<double> s = ct.numbers("length", kCoordinate);
     if (s.size() != 2 || s[0] > s[1]) {
       ct.fail("length",
               "expected the axial range [s_min, s_max] in m from `point` along `axis`, s_min <= s_max");
@@ -181,7 +192,7 @@ void read_coupling(const Table& pt, NamedPoint& p) {
   }
   p.selector_where = pt.location(surface ? "surface" : p.box ? "box" : "cylinder");
   p.distributing = pt.optional_choice("coupling", {"rbe2", "rbe3"}).value_or("rbe2") == "rbe3";
-  p.max_distance = pt.number_or("max_distance", 0.0, Range::positive());
+  p.max_distance = pt.number_or("max_distance", 0.0, Range{0.0, kMaxLength, true, false});
 }
 
 std::vector<NamedPoint> read_points(const Table& root, const std::string& key, bool couplings = false) {
@@ -195,7 +206,7 @@ std::vector<NamedPoint> read_points(const Table& root, const std::string& key, b
     if (p.name.empty()) pt.fail("name", "expected a non-empty name");
     if (!names.insert(p.name).second)
       pt.fail("name", "the name \"" + p.name + "\" is used twice in [[" + key + "]]");
-    p.at = pt.vec3("at");
+    p.at = pt.vec3("at", kCoordinate);
     if (couplings) read_coupling(pt, p);
     pt.finish();
     points.push_back(p);
@@ -210,7 +221,7 @@ ReductionSettings read_reduction(const Table& t) {
   r.method = method == "modal"   ? ReductionMethod::kModal
              : method == "guyan" ? ReductionMethod::kGuyan
                                  : ReductionMethod::kCraigBampton;
-  const auto fmax = t.optional_number("fmax", Range::positive());
+  const auto fmax = t.optional_number("fmax", Range{0.0, 1e7, true, false});  // Hz
   const auto modes = t.optional_integer("modes", Range::closed(1, 100000));
   if (fmax && modes) t.fail("modes", "give either fmax or modes, not both");
   // Whether a count is needed at all is checked after command-line overrides (check_reduction).
@@ -242,8 +253,9 @@ void read_volume(const Table& t, Component& c) {
   if (!std::filesystem::exists(v.mesh))
     t.fail("mesh", "the mesh file " + v.mesh.string() + " does not exist");
   v.order = static_cast<int>(t.optional_integer("order", input::Range::closed(1, 2)).value_or(2));
-  v.size = t.number_or("size", 0.0, input::Range::non_negative());
-  v.elements_per_wavelength = t.number_or("elements_per_wavelength", 0.0, input::Range::non_negative());
+  v.size = t.number_or("size", 0.0, input::Range::closed(0.0, kMaxLength));
+  // More than 100 elements per shear wavelength buys no accuracy (2nd-order elements converge at 6-10).
+  v.elements_per_wavelength = t.number_or("elements_per_wavelength", 0.0, input::Range::closed(0.0, 100.0));
   if (v.size > 0.0 && v.elements_per_wavelength > 0.0) {
     t.fail("elements_per_wavelength", "give either size or elements_per_wavelength, not both");
   }
@@ -320,7 +332,7 @@ Component read(const input::Document& doc, const std::filesystem::path& file) {
       if (ft.has("at")) ft.fail("at", "give either at (one node) or box (every node inside), not both");
     } else {
       s.where = ft.location("at");
-      s.at = ft.vec3("at");
+      s.at = ft.vec3("at", kCoordinate);
     }
     const std::string dofs = ft.string("dofs");
     try {

@@ -84,6 +84,8 @@ double rate_from_times(const std::string& where, std::int64_t n, double t0, doub
   if (!(dt > 0.0))
     throw Error(where + ": times must increase; first " + std::to_string(t0) + " s, last " +
                 std::to_string(t_last) + " s");
+  if (!std::isfinite(1.0 / dt))  // a subnormal step: the rate would be infinite
+    throw Error(where + ": the time step " + std::to_string(dt) + " s gives no finite sample rate");
   std::vector<double> block;
   for (std::int64_t start = 0; start < n; start += kBlock) {
     const std::int64_t count = std::min(kBlock, n - start);

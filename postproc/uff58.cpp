@@ -4,12 +4,14 @@
 
 #include <algorithm>
 #include <bit>
+#include <cctype>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <sstream>
 
 #include "common/error.hpp"
@@ -76,6 +78,11 @@ class LineReader {
   int line_ = 0;
 };
 
+/// Finite and not subnormal: what a sample or an abscissa may be.
+bool usable(double v) {
+  return std::isfinite(v) && (v == 0 || std::abs(v) >= std::numeric_limits<double>::min());
+}
+
 double fixed_double(const std::string& line, std::size_t at, std::size_t width, LineReader& r,
                     const char* field) {
   const std::string text = trim(line.size() > at ? line.substr(at, width) : "");
@@ -83,7 +90,21 @@ double fixed_double(const std::string& line, std::size_t at, std::size_t width, 
   const double v = std::strtod(text.c_str(), &end);
   if (text.empty() || *end != '\0')
     r.fail(std::string("record 7: ") + field + ": '" + text + "' is not a number");
+  // strtod reads "inf", "nan" and overflows (1e999 as inf); a subnormal increment gives an infinite rate.
+  if (!usable(v)) r.fail(std::string("record 7: ") + field + ": '" + text + "' is not a finite number");
   return v;
+}
+
+/// An integer field of record 7 within [lo, hi], checked before the conversion (undefined beyond the type).
+std::int64_t fixed_integer(const std::string& line, std::size_t at, std::size_t width, LineReader& r,
+                           const char* field, double lo, double hi) {
+  const double v = fixed_double(line, at, width, r, field);
+  if (!(v >= lo && v <= hi) || v != std::floor(v)) {
+    std::ostringstream msg;
+    msg << "record 7: " << field << ": " << v << " is not an integer in [" << lo << ", " << hi << "]";
+    r.fail(msg.str());
+  }
+  return static_cast<std::int64_t>(v);
 }
 
 std::string fixed_text(const std::string& line, std::size_t at, std::size_t width) {
@@ -105,9 +126,10 @@ Uff58Record read_record(LineReader& r, bool binary, int byte_order, std::size_t 
   }
   const std::string r7 = r.require("record 7 (data form)");
   const int r7_line = r.line();
-  const int data_type = static_cast<int>(fixed_double(r7, 0, 10, r, "ordinate data type"));
-  const auto points = static_cast<std::int64_t>(fixed_double(r7, 10, 10, r, "number of points"));
-  const int even = static_cast<int>(fixed_double(r7, 20, 10, r, "abscissa spacing"));
+  const int data_type = static_cast<int>(fixed_integer(r7, 0, 10, r, "ordinate data type", 0, 99));
+  // At most 2^31 points (16 GB of doubles): a larger count is a corrupt record, not a measurement.
+  const std::int64_t points = fixed_integer(r7, 10, 10, r, "number of points", 1, 2147483648.0);
+  const int even = static_cast<int>(fixed_integer(r7, 20, 10, r, "abscissa spacing", 0, 1));
   rec.abscissa_min = fixed_double(r7, 30, 13, r, "abscissa minimum");
   rec.abscissa_increment = fixed_double(r7, 43, 13, r, "abscissa increment");
   if (data_type != 2 && data_type != 4)
@@ -147,6 +169,10 @@ Uff58Record read_record(LineReader& r, bool binary, int byte_order, std::size_t 
         raw.push_back(d);
       }
     }
+    for (std::size_t i = 0; i < raw.size(); ++i)
+      if (!usable(raw[i]))
+        r.fail_at(r7_line,
+                  "binary value " + std::to_string(i) + " (0-based) of the record is not a finite number");
     std::string end;
     while (r.next(end) && trim(end).empty()) {
     }
@@ -161,6 +187,14 @@ Uff58Record read_record(LineReader& r, bool binary, int byte_order, std::size_t 
       while (true) {
         const double v = std::strtod(p, &end);
         if (end == p) break;
+        if (!usable(v)) {
+          const char* first = p;
+          while (first < end && std::isspace(static_cast<unsigned char>(*first))) ++first;
+          std::ostringstream msg;
+          msg << "'" << std::string_view(first, static_cast<std::size_t>(end - first))
+              << "' is not a finite number (sample " << raw.size() / per_point << ", 0-based)";
+          r.fail(msg.str());
+        }
         raw.push_back(v);
         p = end;
       }

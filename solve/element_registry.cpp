@@ -42,7 +42,7 @@ Table1D ElementContext::table_from(const std::string& what, double period) const
     }
     if (!t.has("table")) t.fail("the " + what + " needs 'table' = [[x, y], ...] or 'file' = \"table.csv\"");
     std::vector<double> x, y;
-    for (const auto& row : t.number_rows("table", 2)) {
+    for (const auto& row : t.number_rows("table", 2, input::Range::magnitude(bounds::kCoefficient))) {
       x.push_back(row[0]);
       y.push_back(row[1]);
     }

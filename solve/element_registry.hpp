@@ -19,6 +19,26 @@
 
 namespace nvh::solve {
 
+/// Bounds of a scene's numbers (docs/scene-format.md, "Numbers"), shared by the scene reader and the element
+/// readers. Every number is finite (input::Range); these bounds lie orders of magnitude beyond any machine,
+/// so that no product the model forms of them overflows into inf and NaN results, and no run is without end.
+namespace bounds {
+inline constexpr double kLength = 1e3;        ///< m: positions, lengths (the assembly resolves 1e-13 m)
+inline constexpr double kClearance = 1.0;     ///< m: contact clearances (either sign)
+inline constexpr double kSpeed = 1e5;         ///< m/s
+inline constexpr double kAngularSpeed = 1e6;  ///< rad/s
+inline constexpr double kRpm = 1e7;           ///< rpm (about kAngularSpeed)
+inline constexpr double kAcceleration = 1e6;  ///< m/s^2 (gravity)
+inline constexpr double kMass = 1e12;         ///< kg
+inline constexpr double kInertia = 1e12;      ///< kg m^2
+inline constexpr double kCoefficient = 1e20;  ///< stiffness, damping, forces, torques, table values (SI)
+inline constexpr double kAngleDeg = 1e6;      ///< deg: angles, offsets, periods
+inline constexpr double kFrequencyHz = 1e9;   ///< Hz: load frequencies, the output sample rate
+inline constexpr double kTime = 1e12;         ///< s: start and end of a run
+inline constexpr double kMaxSamples = 1e9;    ///< output samples of a run ending by time
+inline constexpr double kMaxSteps = 1e10;     ///< fixed generalized-alpha steps of a run ending by time
+}  // namespace bounds
+
 /// What a factory gets: its table (located errors: t.fail(key, what)), the scene's folder, the list of input
 /// files (for provenance), its markers' initial motion, and the shared table helper.
 struct ElementContext {

@@ -659,7 +659,8 @@ std::unique_ptr<Body> make_flexible_body(const input::Table& t, const std::strin
                                          std::vector<std::filesystem::path>& inputs) {
   const std::filesystem::path file = base / t.string("superelement");
   inputs.push_back(file);
-  const int modes = static_cast<int>(t.optional_integer("modes", input::Range::at_least(1)).value_or(0));
+  const int modes =
+      static_cast<int>(t.optional_integer("modes", input::Range::closed(1, 100000)).value_or(0));
   const Coupling coupling = t.optional_choice("coupling", {"full", "linear"}).value_or("full") == "full"
                                 ? Coupling::kFull
                                 : Coupling::kLinear;

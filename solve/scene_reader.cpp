@@ -1,8 +1,11 @@
 // The scene file reader: TOML -> Model + run settings (keys documented in docs/scene-format.md).
+#include <algorithm>
 #include <cmath>
+#include <iomanip>
 #include <map>
 #include <numbers>
 #include <optional>
+#include <sstream>
 
 #include "common/input.hpp"
 #include "solve/element_registry.hpp"
@@ -16,7 +19,23 @@ using input::Range;
 using input::Table;
 constexpr double kPi = std::numbers::pi;
 
+// The bounds of element_registry.hpp as ranges (docs/scene-format.md, "Numbers").
+const Range kPosition = Range::magnitude(bounds::kLength);
+const Range kDirection = Range::magnitude(bounds::kLength);  // normalized after reading
+const Range kVelocity = Range::magnitude(bounds::kSpeed);
+const Range kAngularVelocity = Range::magnitude(bounds::kAngularSpeed);
+const Range kMass{0.0, bounds::kMass, true, false};
+const Range kAngleDeg = Range::magnitude(bounds::kAngleDeg);
+const Range kTime = Range::magnitude(bounds::kTime);
+
 Vec3 to_vec(const std::array<double, 3>& a) { return {a[0], a[1], a[2]}; }
+
+/// A number for messages: "0.1", "1e+09", "12345".
+std::string format_number(double x) {
+  std::ostringstream out;
+  out << std::setprecision(6) << x;
+  return out.str();
+}
 
 class SceneReader {
  public:
@@ -26,7 +45,8 @@ class SceneReader {
     const auto scene = root.optional_table("scene");
     if (scene) {
       s_.name = scene->optional_string("name").value_or("");
-      if (auto g = scene->optional_vec3("gravity")) s_.model.gravity = to_vec(*g);
+      if (auto g = scene->optional_vec3("gravity", Range::magnitude(bounds::kAcceleration)))
+        s_.model.gravity = to_vec(*g);
       scene->finish();
     }
     for (const auto& b : root.table_array("body")) read_body(b);
@@ -52,15 +72,15 @@ class SceneReader {
     const std::string type = t.choice("type", {"ground", "rigid", "point-mass", "flexible"});
     InitialState init;
     if (type != "ground") {
-      init.position = to_vec(t.optional_vec3("position").value_or(std::array<double, 3>{0, 0, 0}));
-      init.velocity = to_vec(t.optional_vec3("velocity").value_or(std::array<double, 3>{0, 0, 0}));
+      init.position = to_vec(t.optional_vec3("position", kPosition).value_or(std::array<double, 3>{0, 0, 0}));
+      init.velocity = to_vec(t.optional_vec3("velocity", kVelocity).value_or(std::array<double, 3>{0, 0, 0}));
     }
     std::unique_ptr<Body> body;
     if (type == "ground") {
       body = std::make_unique<Ground>(name);
     } else if (type == "rigid") {
-      const double mass = t.number("mass", Range::positive());
-      const auto in = t.numbers("inertia", Range{});
+      const double mass = t.number("mass", kMass);
+      const auto in = t.numbers("inertia", Range::magnitude(bounds::kInertia));
       Mat3 j = Mat3::Zero();
       if (in.size() == 3) {
         j.diagonal() << in[0], in[1], in[2];
@@ -79,20 +99,22 @@ class SceneReader {
         t.fail("inertia", "the principal moments violate the triangle inequality (I1 + I2 >= I3): no real body "
                           "has them");
       if (t.has("orientation")) {
-        const auto p = t.numbers("orientation");
+        const auto p = t.numbers("orientation", kDirection);
         if (p.size() != 4) t.fail("orientation", "expected 4 Euler parameters [e0, e1, e2, e3]");
         Vec4 pv(p[0], p[1], p[2], p[3]);
         if (pv.norm() < 1e-12) t.fail("orientation", "the Euler parameters must not all be zero");
         init.orientation = rotation_matrix(pv.normalized());
       }
-      init.angular_velocity = to_vec(t.optional_vec3("angular_velocity").value_or(std::array<double, 3>{0, 0, 0}));
+      init.angular_velocity = to_vec(
+          t.optional_vec3("angular_velocity", kAngularVelocity).value_or(std::array<double, 3>{0, 0, 0}));
       body = std::make_unique<RigidBody>(name, mass, j, init);
     } else if (type == "point-mass") {
-      body = std::make_unique<PointMass>(name, t.number("mass", Range::positive()), init);
+      body = std::make_unique<PointMass>(name, t.number("mass", kMass), init);
     } else {
-      init.angular_velocity = to_vec(t.optional_vec3("angular_velocity").value_or(std::array<double, 3>{0, 0, 0}));
+      init.angular_velocity = to_vec(
+          t.optional_vec3("angular_velocity", kAngularVelocity).value_or(std::array<double, 3>{0, 0, 0}));
       if (t.has("orientation")) {
-        const auto p = t.numbers("orientation");
+        const auto p = t.numbers("orientation", kDirection);
         if (p.size() != 4) t.fail("orientation", "expected 4 Euler parameters [e0, e1, e2, e3]");
         const Vec4 pv(p[0], p[1], p[2], p[3]);
         if (pv.norm() < 1e-12) t.fail("orientation", "the Euler parameters must not all be zero");
@@ -104,9 +126,9 @@ class SceneReader {
       MarkerDefinition md;
       md.name = m.string("name");
       if (body->find_marker(md.name) >= 0) m.fail("name", "marker '" + md.name + "' is defined twice on body '" + name + "'");
-      md.position = to_vec(m.optional_vec3("at").value_or(std::array<double, 3>{0, 0, 0}));
-      const Vec3 z = to_vec(m.optional_vec3("z").value_or(std::array<double, 3>{0, 0, 1}));
-      const Vec3 x = to_vec(m.optional_vec3("x").value_or(std::array<double, 3>{1, 0, 0}));
+      md.position = to_vec(m.optional_vec3("at", kPosition).value_or(std::array<double, 3>{0, 0, 0}));
+      const Vec3 z = to_vec(m.optional_vec3("z", kDirection).value_or(std::array<double, 3>{0, 0, 1}));
+      const Vec3 x = to_vec(m.optional_vec3("x", kDirection).value_or(std::array<double, 3>{1, 0, 0}));
       if (z.norm() < 1e-12) m.fail("z", "the z axis must not be zero");
       if (type == "point-mass" && md.position.norm() > 0)
         m.fail("at", "markers of a point mass sit on the point: 'at' must be [0, 0, 0] or omitted");
@@ -184,7 +206,7 @@ class SceneReader {
   std::map<std::string, int> body_index_;
   bool needs_clock_ = false;
   std::optional<Table> clock_user_;  // a load that needs the crank angle (for the message)
-
+  std::optional<Table> clock_;       // the [clock] table (for messages about the run's length)
 };
 
 void SceneReader::read_driver(const Table& t) {
@@ -200,7 +222,7 @@ void SceneReader::read_driver(const Table& t) {
   constexpr double kRpm = 2 * kPi / 60.0;
   if (t.has("rpm") && t.has("table")) t.fail("table", "give either 'rpm' (constant) or 'table' (rpm against time)");
   if (t.has("rpm")) {
-    const double w = t.number("rpm") * kRpm;
+    const double w = t.number("rpm", Range::magnitude(bounds::kRpm)) * kRpm;
     theta = [=](double time) { return theta0 + w * time; };
     rate = [=](double) { return w; };
   } else {
@@ -255,12 +277,13 @@ void SceneReader::read_clock(const Table& root) {
     if (needs_clock_) clock_user_->fail("abscissa", "a load against crank angle needs a [clock] that defines the crank angle");
     root.fail("the scene needs a [clock] with end_time (s), or i/j markers and end_angle_deg or end_cycles");
   }
-  s_.start_time = c->number_or("start_time", 0.0);
+  clock_ = c;
+  s_.start_time = c->number_or("start_time", 0.0, kTime);
   if (c->has("i") || c->has("j")) {
     ClockDefinition def;
     def.i = marker(*c, "i");
     def.j = marker(*c, "j");
-    def.zero_angle = c->number_or("zero_deg", 0.0) * kPi / 180.0;
+    def.zero_angle = c->number_or("zero_deg", 0.0, kAngleDeg) * kPi / 180.0;
     s_.model.clock = def;
   } else if (needs_clock_) {
     clock_user_->fail("abscissa", "a load against crank angle needs [clock] i and j markers (the crank's rotation)");
@@ -268,15 +291,17 @@ void SceneReader::read_clock(const Table& root) {
   const int ends = c->has("end_time") + c->has("end_angle_deg") + c->has("end_cycles");
   if (ends != 1) c->fail("give exactly one of end_time (s), end_angle_deg or end_cycles");
   if (c->has("end_time")) {
-    s_.end_time = c->number("end_time", Range{s_.start_time, 1e12, true, false});
+    s_.end_time = c->number("end_time", Range{s_.start_time, bounds::kTime, true, false});
   } else {
     if (!s_.model.clock) c->fail(c->has("end_angle_deg") ? "end_angle_deg" : "end_cycles", "an end by angle needs the clock's i and j markers");
-    const double cycle = c->number_or("cycle_deg", 720.0, Range::positive());
-    s_.end_angle_deg = c->has("end_angle_deg") ? c->number("end_angle_deg", Range::positive())
-                                             : c->number("end_cycles", Range::positive()) * cycle;
+    // The end angle is bounded like a time: 1e12 deg are some 3e9 turns.
+    const double cycle = c->number_or("cycle_deg", 720.0, Range{0.0, bounds::kAngleDeg, true, false});
+    s_.end_angle_deg = c->has("end_angle_deg")
+                           ? c->number("end_angle_deg", Range{0.0, bounds::kTime, true, false})
+                           : c->number("end_cycles", Range{0.0, bounds::kTime / cycle, true, false}) * cycle;
     // The end time follows from the speed at run time; end_time_limit (default: a generous bound) stops a
     // stalled or slow run.
-    s_.end_time = c->number_or("end_time_limit", 1e9, Range{s_.start_time, 1e12, true, false});
+    s_.end_time = c->number_or("end_time_limit", 1e9, Range{s_.start_time, bounds::kTime, true, false});
   }
   c->accept("end_time_limit");
   c->finish();
@@ -288,14 +313,25 @@ void SceneReader::read_integrator(const Table& root) {
   auto& s = s_.integrator;
   s.method = t->optional_choice("method", {"ida", "generalized-alpha"}).value_or(s.method);
   s.rtol = t->number_or("rtol", s.rtol, Range::open(0.0, 1.0));
-  s.atol = t->number_or("atol", s.atol, Range::positive());
-  s.multiplier_atol = t->number_or("multiplier_atol", s.multiplier_atol, Range::positive());
-  s.max_step = t->number_or("max_step", s.max_step, Range::non_negative());
-  s.initial_step = t->number_or("initial_step", s.initial_step, Range::non_negative());
+  // Absolute tolerances of positions (m, rad) above 1 and of multipliers (N, N m) above the coefficients'
+  // bound let the error test accept anything: the run ends "complete" with meaningless results.
+  s.atol = t->number_or("atol", s.atol, Range{0.0, 1.0, true, false});
+  s.multiplier_atol =
+      t->number_or("multiplier_atol", s.multiplier_atol, Range{0.0, bounds::kCoefficient, true, false});
+  s.max_step = t->number_or("max_step", s.max_step, Range::closed(0.0, bounds::kTime));
+  s.initial_step = t->number_or("initial_step", s.initial_step, Range::closed(0.0, bounds::kTime));
   s.max_order = static_cast<int>(t->optional_integer("max_order", Range::closed(1, 5)).value_or(s.max_order));
   s.jacobian_cj_change = t->number_or("jacobian_cj_change", s.jacobian_cj_change, Range::open(0.0, 1.0));
   s.rho_inf = t->number_or("rho_inf", s.rho_inf, Range::closed(0.0, 1.0));
-  s.step = t->number_or("step", s.step, Range::positive());
+  s.step = t->number_or("step", s.step, Range{0.0, bounds::kTime, true, false});
+  // A fixed step so small that the run never ends (or that t + step == t): refuse it where the end is a time.
+  const double span = s_.end_time - s_.start_time;
+  if (s_.end_angle_deg == 0 && t->has("step") && span / s.step > bounds::kMaxSteps) {
+    t->fail("step", "expected a step >= " + format_number(span / bounds::kMaxSteps) + " s: the run from " +
+                        format_number(s_.start_time) + " s to " + format_number(s_.end_time) +
+                        " s would take " + format_number(span / s.step) + " steps, more than the limit of " +
+                        format_number(bounds::kMaxSteps));
+  }
   s.adaptive = t->optional_boolean("adaptive").value_or(s.adaptive);
   s.jacobian = t->optional_choice("jacobian", {"analytic", "colored-fd", "dense-fd"}).value_or(s.jacobian);
   s.events = t->optional_boolean("events").value_or(s.events);
@@ -305,7 +341,9 @@ void SceneReader::read_integrator(const Table& root) {
 void SceneReader::read_output(const Table& root) {
   auto& o = s_.output;
   if (const auto t = root.optional_table("output")) {
-    o.sample_rate_hz = t->number_or("sample_rate_hz", o.sample_rate_hz, Range::positive());
+    o.sample_rate_hz =
+        t->number_or("sample_rate_hz", o.sample_rate_hz, Range{0.0, bounds::kFrequencyHz, true, false});
+
     o.chunk_samples = static_cast<int>(t->optional_integer("chunk_samples", Range::closed(1, 1e7)).value_or(o.chunk_samples));
     o.bodies = t->optional_boolean("bodies").value_or(true);
     o.forces = t->optional_boolean("forces").value_or(true);
@@ -323,6 +361,26 @@ void SceneReader::read_output(const Table& root) {
       }
     }
     t->finish();
+  }
+  // Every sample is written: a run may hold at most kMaxSamples of them (a larger count is a mistake of
+  // units, and it would fill the disk or never end). A run that ends by crank angle is bounded by its
+  // end_time_limit: by default the time of kMaxSamples samples (a stalled crank then still ends), and one
+  // given must keep within them too. Named at the rate if given, else at the end.
+  const bool by_angle = s_.end_angle_deg > 0;
+  if (by_angle && !clock_->has("end_time_limit"))
+    s_.end_time = std::min(s_.end_time, s_.start_time + bounds::kMaxSamples / o.sample_rate_hz);
+  const double samples = (s_.end_time - s_.start_time) * o.sample_rate_hz;
+  if (samples > bounds::kMaxSamples) {
+    const auto output = root.optional_table("output");
+    const bool at_rate = output && output->has("sample_rate_hz");
+    const Table& where = at_rate ? *output : *clock_;
+    where.fail(at_rate    ? "sample_rate_hz"
+               : by_angle ? "end_time_limit"
+                          : "end_time",
+               "the run from " + format_number(s_.start_time) + " s to " + format_number(s_.end_time) +
+                   " s at " + format_number(o.sample_rate_hz) + " Hz gives " + format_number(samples) +
+                   " samples, more than the limit of " + format_number(bounds::kMaxSamples) +
+                   " samples per run: lower the rate or shorten the run");
   }
   if (o.markers.empty()) {
     for (std::size_t b = 0; b < s_.model.bodies.size(); ++b) {

@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include "common/error.hpp"
+#include "solve/element_registry.hpp"
 
 namespace nvh::solve {
 
@@ -15,14 +17,15 @@ Table1D::Table1D(std::vector<double> x, std::vector<double> y, const std::string
     throw Error(where + ": the table has " + std::to_string(x_.size()) + " abscissae but " +
                 std::to_string(y_.size()) + " values");
   if (x_.size() < 2) throw Error(where + ": a table needs at least 2 points");
+  // Finite first: NaN would otherwise be reported as an abscissa that does not increase.
+  for (std::size_t k = 0; k < x_.size(); ++k)
+    if (!std::isfinite(x_[k]) || !std::isfinite(y_[k]))
+      throw Error(where + ": point " + std::to_string(k + 1) + " is not a finite number");
   for (std::size_t k = 1; k < x_.size(); ++k)
     if (!(x_[k] > x_[k - 1]))
       throw Error(where + ": the abscissa must increase strictly, but point " + std::to_string(k + 1) + " (" +
                   std::to_string(x_[k]) + ") does not exceed point " + std::to_string(k) + " (" +
                   std::to_string(x_[k - 1]) + ")");
-  for (std::size_t k = 0; k < x_.size(); ++k)
-    if (!std::isfinite(x_[k]) || !std::isfinite(y_[k]))
-      throw Error(where + ": point " + std::to_string(k + 1) + " is not a finite number");
 }
 
 std::size_t Table1D::piece(double& x) const {
@@ -93,6 +96,12 @@ bool parse_double(const std::string& s, double& v) {
   v = std::strtod(s.c_str(), &end);
   return !s.empty() && end && *end == '\0';
 }
+/// A table's numbers must be finite and no larger than the scene's other coefficients (element_registry.hpp):
+/// strtod reads "inf", "nan" and overflows such as 1e999 (as inf) without complaint.
+bool usable(double v) {
+  return std::isfinite(v) && std::abs(v) <= bounds::kCoefficient &&
+         (v == 0 || std::abs(v) >= std::numeric_limits<double>::min());
+}
 }  // namespace
 
 Table1D read_csv_table(const std::filesystem::path& path, const std::string& x_column,
@@ -128,6 +137,12 @@ Table1D read_csv_table(const std::filesystem::path& path, const std::string& x_c
         !parse_double(cells[yi], vy))
       throw Error(path.string() + ":" + std::to_string(line_no) + ": expected numbers in columns " +
                   std::to_string(xi + 1) + " and " + std::to_string(yi + 1) + ", got '" + line + "'");
+    for (const int column : {xi, yi}) {
+      if (!usable(column == xi ? vx : vy))
+        throw Error(path.string() + ":" + std::to_string(line_no) + ": column " + std::to_string(column + 1) +
+                    ": '" + cells[column] +
+                    "' is not a finite number of magnitude <= 1e20 (and not subnormal)");
+    }
     x.push_back(vx);
     y.push_back(vy);
   }

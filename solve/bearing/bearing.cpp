@@ -18,17 +18,36 @@ void require(bool ok, const BearingSpec& s, const std::string& field, const std:
 }  // namespace
 
 void validate(const BearingSpec& s) {
-  require(s.diameter > 0, s, "diameter", "a number > 0 (m)", s.diameter);
-  require(s.width > 0, s, "width", "a number > 0 (m)", s.width);
+  // Specs built in code (tests, tools) come here without the reader's ranges: refuse what is not finite too.
+  using std::isfinite;
+  require(s.diameter > 0 && isfinite(s.diameter), s, "diameter", "a finite number > 0 (m)", s.diameter);
+  require(s.width > 0 && isfinite(s.width), s, "width", "a finite number > 0 (m)", s.width);
   require(s.radial_clearance > 0, s, "radial_clearance", "a number > 0 (m)", s.radial_clearance);
   require(s.radial_clearance < 0.5 * s.diameter, s, "radial_clearance", "a clearance smaller than the radius",
           s.radial_clearance);
-  require(s.viscosity > 0, s, "viscosity", "a number > 0 (Pa s)", s.viscosity);
-  require(s.barus >= 0, s, "barus", "a number >= 0 (1/Pa)", s.barus);
-  require(s.supply_pressure >= 0, s, "supply_pressure", "a number >= 0 (Pa, gauge)", s.supply_pressure);
+  require(s.viscosity > 0 && isfinite(s.viscosity), s, "viscosity", "a finite number > 0 (Pa s)",
+          s.viscosity);
+  require(s.barus >= 0 && isfinite(s.barus), s, "barus", "a finite number >= 0 (1/Pa)", s.barus);
+  require(s.supply_pressure >= 0 && isfinite(s.supply_pressure), s, "supply_pressure",
+          "a finite number >= 0 (Pa, gauge)", s.supply_pressure);
   if (s.model == Model::kFinite) {
-    require(s.cells_around >= 8, s, "grid[0] (cells around)", "an integer >= 8", s.cells_around);
-    require(s.cells_across >= 1, s, "grid[1] (cells across)", "an integer >= 1", s.cells_across);
+    require(s.cells_around >= 8 && s.cells_around <= kMaxCellsPerDirection, s, "grid[0] (cells around)",
+            "an integer in [8, " + std::to_string(kMaxCellsPerDirection) + "]", s.cells_around);
+    require(s.cells_across >= 1 && s.cells_across <= kMaxCellsPerDirection, s, "grid[1] (cells across)",
+            "an integer in [1, " + std::to_string(kMaxCellsPerDirection) + "]", s.cells_across);
+    require(std::int64_t{s.cells_around} * s.cells_across <= kMaxCells, s, "grid (cells around x across)",
+            "at most " + std::to_string(kMaxCells) + " cells", double(s.cells_around) * s.cells_across);
+  }
+  for (const FeedHole& h : s.holes) {
+    require(isfinite(h.angle), s, "hole angle", "a finite angle", h.angle);
+    require(isfinite(h.axial_position), s, "hole axial_position", "a finite position (m)", h.axial_position);
+    require(h.diameter > 0 && isfinite(h.diameter), s, "hole diameter", "a finite number > 0 (m)",
+            h.diameter);
+  }
+  for (const Groove& g : s.grooves) {
+    for (const double x :
+         {g.axial_position, g.width, g.arc_start, g.arc_end, g.angle, g.angular_width, g.length})
+      require(isfinite(x), s, "groove", "finite positions, angles and sizes", x);
   }
 }
 

@@ -12,6 +12,7 @@
 //
 // Units SI: m, m/s, rad/s, Pa, Pa s, N, N m, W, m^3/s.
 #include <Eigen/Core>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -101,7 +102,13 @@ struct FilmResult {
   int factorizations = 0;  ///< finite bearing: of them, the ones that factorized (the rest reused one)
 };
 
-/// Throws nvh::Error if the spec is not usable (clearance <= 0, viscosity <= 0, ...), naming the field.
+/// Bounds of the finite bearing's grid: cells in one direction, and in all (the film's sparse Jacobian has
+/// about 5 non-zeros per cell; 1e6 cells are some 1 GB in KLU, far beyond any converged grid).
+inline constexpr int kMaxCellsPerDirection = 100000;
+inline constexpr std::int64_t kMaxCells = 1000000;
+
+/// Throws nvh::Error if the spec is not usable (clearance <= 0, viscosity <= 0, a number that is not finite,
+/// a grid beyond the bounds above, ...), naming the field.
 void validate(const BearingSpec& spec);
 
 /// Throws nvh::Error if |e| >= c: the journal would touch the shell; the hydrodynamic models end there.

@@ -65,6 +65,10 @@ void write_csv(const std::filesystem::path& path, const std::vector<MapRow>& row
 
 }  // namespace
 
+// The fastest journal the map accepts (as solve's rpm, docs/scene-format.md): beyond it the film's pressure
+// scale overflows.
+constexpr double kMaxRpm = 1e7;
+
 int bearing_map_main(int argc, char** argv) {
   CLI::App app{kDescription, "bearing-map"};
   std::string input_file, output_file, csv_file;
@@ -96,13 +100,17 @@ int bearing_map_main(int argc, char** argv) {
     double rpm = 0, load_angle_deg = -90;
     std::vector<double> from_file;
     if (const auto map = root.optional_table("map")) {
-      rpm = map->number_or("speed_rpm", 0.0, input::Range::non_negative());
-      load_angle_deg = map->number_or("load_angle_deg", -90.0);
+      rpm = map->number_or("speed_rpm", 0.0, input::Range::closed(0.0, kMaxRpm));
+      load_angle_deg = map->number_or("load_angle_deg", -90.0, input::Range::closed(-360.0, 360.0));
       if (map->has("eccentricities")) from_file = map->numbers("eccentricities", input::Range::open(0, 1));
       map->finish();
     }
     root.finish();
     if (speed_rpm) rpm = *speed_rpm;
+    if (speed_rpm && !(rpm <= kMaxRpm)) {
+      throw Error("--speed-rpm: " + std::to_string(rpm) +
+                  " is not a finite speed <= " + std::to_string(kMaxRpm) + " rpm");
+    }
     if (!(rpm > 0)) {
       throw Error(input_file + ": no journal speed: give [map] speed_rpm = ... (rpm, > 0) or --speed-rpm");
     }

@@ -49,13 +49,16 @@ void FiniteBearing::mark_supply_cells() {
   const double R = spec_.radius(), L = spec_.width;
   auto theta_of = [&](int i) { return (i + 0.5) * dtheta_; };
   auto z_of = [&](int k) { return -0.5 * L + (k + 0.5) * L / nz_; };
+  // A cell index from a position in cells: clamped to [0, n - 1] before the conversion to int, which is
+  // undefined for NaN and for values beyond int (a non-finite hole angle once wrote outside `supply`).
+  auto cell = [](double x, int n) {
+    return x >= 0 ? static_cast<int>(std::min(x, static_cast<double>(n - 1))) : 0;
+  };
   auto nearest_i = [&](double angle) {
     const double a = angle - 2 * kPi * std::floor(angle / (2 * kPi));
-    return std::min(nt_ - 1, static_cast<int>(a / dtheta_));
+    return cell(a / dtheta_, nt_);
   };
-  auto nearest_k = [&](double z) {
-    return std::clamp(static_cast<int>((z + 0.5 * L) / (L / nz_)), 0, nz_ - 1);
-  };
+  auto nearest_k = [&](double z) { return cell((z + 0.5 * L) / (L / nz_), nz_); };
   for (const FeedHole& h : spec_.holes) {
     bool any = false;
     for (int k = 0; k < nz_; ++k)

@@ -132,7 +132,7 @@ void register_bushing(ElementRegistry& r) {
            auto matrix6 = [&](const char* key) {
              Matrix6 m = Matrix6::Zero();
              if (!t.has(key)) return m;
-             const auto v = t.numbers(key);
+             const auto v = t.numbers(key, input::Range::magnitude(bounds::kCoefficient));
              if (v.size() == 6) {
                for (int k = 0; k < 6; ++k) m(k, k) = v[k];
              } else if (v.size() == 36) {

@@ -4,20 +4,25 @@
 #include <algorithm>
 #include <cmath>
 
+#include "solve/element_registry.hpp"
+
 namespace nvh::solve::contact {
 
 Parameters read_parameters(const input::Table& t) {
   using input::Range;
   Parameters p;
-  p.stiffness = t.number("stiffness", Range::positive());
+  // Speeds from 1 nm/s: below, the damping 3 (1 - e) / (2 v_ref) and the friction's tanh(v / v_eps) have
+  // scales that overflow.
+  const Range speed = Range::closed(1e-9, bounds::kSpeed);
+  p.stiffness = t.number("stiffness", Range{0.0, bounds::kCoefficient, true, false});
   p.exponent = t.number_or("exponent", 1.5, Range::closed(1.0, 3.0));
   p.restitution = t.number_or("restitution", 1.0, Range::open(0.0, 1.0 + 1e-12));
-  p.reference_speed = t.number_or("reference_speed", 1.0, Range::positive());
-  p.clearance = t.number_or("clearance", 0.0);
-  p.mu_static = t.number_or("mu_static", 0.0, Range::non_negative());
-  p.mu_dynamic = t.number_or("mu_dynamic", p.mu_static, Range::non_negative());
-  p.stribeck_speed = t.number_or("stribeck_speed", 0.01, Range::positive());
-  p.regularization_speed = t.number_or("regularization_speed", 1e-4, Range::positive());
+  p.reference_speed = t.number_or("reference_speed", 1.0, speed);
+  p.clearance = t.number_or("clearance", 0.0, Range::magnitude(bounds::kClearance));
+  p.mu_static = t.number_or("mu_static", 0.0, Range::closed(0.0, 10.0));
+  p.mu_dynamic = t.number_or("mu_dynamic", p.mu_static, Range::closed(0.0, 10.0));
+  p.stribeck_speed = t.number_or("stribeck_speed", 0.01, speed);
+  p.regularization_speed = t.number_or("regularization_speed", 1e-4, speed);
   return p;
 }
 

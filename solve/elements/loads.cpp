@@ -92,21 +92,24 @@ class HarmonicLoad final : public Load {
 std::unique_ptr<ForceElement> make_load(ElementContext& c, bool torque) {
   using input::Range;
   const auto& t = c.table;
+  const Range angle = Range::magnitude(bounds::kAngleDeg);
   Direction d;
   d.torque = torque;
-  const auto a = t.vec3("direction");
+  const auto a = t.vec3("direction", Range::magnitude(bounds::kLength));  // normalized below
   d.direction = Vec3(a[0], a[1], a[2]);
   if (d.direction.norm() < 1e-12) t.fail("direction", "the direction must not be zero");
   d.direction.normalize();
   d.marker_axes = t.optional_choice("axes", {"global", "marker"}).value_or("global") == "marker";
   if (t.has("amplitude") || t.has("frequency_hz"))
-    return std::make_unique<HarmonicLoad>(d, t.number("amplitude"), t.number("frequency_hz", Range::non_negative()),
-                                          t.number_or("phase_deg", 0.0) * kPi / 180.0);
+    return std::make_unique<HarmonicLoad>(d, t.number("amplitude", Range::magnitude(bounds::kCoefficient)),
+                                          t.number("frequency_hz", Range::closed(0.0, bounds::kFrequencyHz)),
+                                          t.number_or("phase_deg", 0.0, angle) * kPi / 180.0);
   const std::string abscissa = t.optional_choice("abscissa", {"time", "crank-angle"}).value_or("time");
   const bool crank = abscissa == "crank-angle";
-  const double scale = t.number_or("scale", 1.0);
-  const double offset = t.number_or("offset_deg", 0.0);
-  const double period = crank ? t.number_or("period_deg", 720.0, Range::positive()) : 0.0;
+  const double scale = t.number_or("scale", 1.0, Range::magnitude(bounds::kCoefficient));
+  const double offset = t.number_or("offset_deg", 0.0, angle);
+  const double period =
+      crank ? t.number_or("period_deg", 720.0, Range{0.0, bounds::kAngleDeg, true, false}) : 0.0;
   Table1D table = c.table_from("load table (" + std::string(crank ? "deg" : "s") + ", value)", period);
   return std::make_unique<TableLoad>(d, std::move(table), crank, scale, offset);
 }

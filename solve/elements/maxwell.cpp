@@ -86,9 +86,10 @@ void register_maxwell(ElementRegistry& r) {
            using input::Range;
            const auto& t = c.table;
            const double free_length = t.has("free_length")
-                                          ? t.number("free_length", Range::non_negative())
+                                          ? t.number("free_length", Range::closed(0.0, bounds::kLength))
                                           : (c.initial[0].position - c.initial[1].position).norm();
-           return std::make_unique<Maxwell>(t.number("k", Range::positive()), t.number("c", Range::positive()),
+           return std::make_unique<Maxwell>(t.number("k", Range{0.0, bounds::kCoefficient, true, false}),
+                                            t.number("c", Range{0.0, bounds::kCoefficient, true, false}),
                                             free_length);
          }});
 }

@@ -102,14 +102,15 @@ void register_spring_damper(ElementRegistry& r) {
            using input::Range;
            const auto& t = c.table;
            Parameters p;
-           p.k0 = t.number_or("k", 0.0, Range::non_negative());
-           p.d0 = t.number_or("d", 0.0, Range::non_negative());
-           p.kb = t.number_or("kB", 0.0);
-           p.db = t.number_or("dB", 0.0);
-           p.xb = t.number_or("xB", 1.0, Range::positive());
-           p.preload = t.number_or("preload", 0.0);
+           const Range coefficient = Range::closed(0.0, bounds::kCoefficient);
+           p.k0 = t.number_or("k", 0.0, coefficient);
+           p.d0 = t.number_or("d", 0.0, coefficient);
+           p.kb = t.number_or("kB", 0.0, Range::magnitude(bounds::kCoefficient));
+           p.db = t.number_or("dB", 0.0, Range::magnitude(bounds::kCoefficient));
+           p.xb = t.number_or("xB", 1.0, Range::closed(1e-9, bounds::kLength));  // (dx / xB)^2 stays finite
+           p.preload = t.number_or("preload", 0.0, Range::magnitude(bounds::kCoefficient));
            // Without free_length: the initial distance, so there is no force at the start.
-           p.free_length = t.has("free_length") ? t.number("free_length", Range::non_negative())
+           p.free_length = t.has("free_length") ? t.number("free_length", Range::closed(0.0, bounds::kLength))
                                                 : (c.initial[0].position - c.initial[1].position).norm();
            return std::make_unique<SpringDamper>(p);
          }});

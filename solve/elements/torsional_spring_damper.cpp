@@ -77,8 +77,10 @@ void register_torsional_spring_damper(ElementRegistry& r) {
            using input::Range;
            const auto& t = c.table;
            return std::make_unique<TorsionalSpringDamper>(
-               t.number("k", Range::non_negative()), t.number_or("d", 0.0, Range::non_negative()),
-               t.number_or("angle0_deg", 0.0) * std::numbers::pi / 180.0, relative_angle(c.initial[0], c.initial[1]));
+               t.number("k", Range::closed(0.0, bounds::kCoefficient)),
+               t.number_or("d", 0.0, Range::closed(0.0, bounds::kCoefficient)),
+               t.number_or("angle0_deg", 0.0, Range::magnitude(bounds::kAngleDeg)) * std::numbers::pi / 180.0,
+               relative_angle(c.initial[0], c.initial[1]));
          }});
 }
 

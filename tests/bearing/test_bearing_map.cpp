@@ -8,6 +8,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -17,6 +18,7 @@
 #include "common/input.hpp"
 #include "solve/bearing/bearing_map_cli.hpp"
 #include "solve/bearing/bearing_reader.hpp"
+#include "solve/bearing/finite_bearing.hpp"
 
 namespace nvh::bearing {
 namespace {
@@ -162,6 +164,88 @@ width = 0.004
   ASSERT_EQ(s.grooves.size(), 1u);
   EXPECT_NEAR(s.grooves[0].arc_end - s.grooves[0].arc_start, 2 * kPi, 1e-12);
   EXPECT_DOUBLE_EQ(s.barus, 2e-8);
+}
+
+}  // namespace
+}  // namespace nvh::bearing
+
+namespace nvh::bearing {
+namespace {
+
+// Issue 18 item 6: `angle_deg = inf` made a NaN that was cast to a cell index and written outside the grid
+// (a segfault). The key now has a range, and so do the bearing's other keys (item 4): each is an error naming
+// the file, line and key, exit 1, no output.
+TEST(bearing_input, NonFiniteAndAbsurdValuesAreRefusedNamingTheKey) {
+  const auto toml = scratch("absurd.toml"), h5 = scratch("absurd.h5");
+  const std::string finite = R"([bearing]
+model = "finite"
+diameter = 0.05
+width = 0.025
+radial_clearance = 30e-6
+viscosity = 0.008
+grid = [48, 12]
+[[bearing.hole]]
+angle_deg = 90
+diameter = 0.005
+
+[map]
+speed_rpm = 2000
+)";
+  struct Case {
+    std::string from, to, where;
+  };
+  const std::vector<Case> cases = {
+      {"angle_deg = 90", "angle_deg = inf", "absurd.toml:9:13: 'bearing.hole[1].angle_deg'"},
+      {"angle_deg = 90", "angle_deg = nan", "absurd.toml:9:13: 'bearing.hole[1].angle_deg'"},
+      {"angle_deg = 90", "angle_deg = 1e300", "absurd.toml:9:13: 'bearing.hole[1].angle_deg'"},
+      {"width = 0.025", "width = 1e-320", "absurd.toml:4:9: 'bearing.width'"},
+      {"radial_clearance = 30e-6", "radial_clearance = inf", "absurd.toml:5:20: 'bearing.radial_clearance'"},
+      {"radial_clearance = 30e-6", "radial_clearance = -inf", "absurd.toml:5:20: 'bearing.radial_clearance'"},
+      {"viscosity = 0.008", "viscosity = 0.008\nbarus = inf", "absurd.toml:7:9: 'bearing.barus'"},
+      {"viscosity = 0.008", "viscosity = 0.008\nbarus = 1e-3", "absurd.toml:7:9: 'bearing.barus'"},
+      {"grid = [48, 12]", "grid = [48, 9223372036854775807]", "absurd.toml:7:13: 'bearing.grid[2]'"},
+      {"grid = [48, 12]", "grid = [10000, 10000]", "absurd.toml:7:8: 'bearing.grid'"},
+      {"speed_rpm = 2000", "speed_rpm = inf", "absurd.toml:13:13: 'map.speed_rpm'"},
+      {"speed_rpm = 2000", "speed_rpm = 1e308", "absurd.toml:13:13: 'map.speed_rpm'"},
+  };
+  for (const Case& c : cases) {
+    std::string text = finite;
+    text.replace(text.find(c.from), c.from.size(), c.to);
+    write(toml, text);
+    std::filesystem::remove(h5);
+    testing::internal::CaptureStderr();
+    EXPECT_EQ(run({toml.string(), "-o", h5.string()}), 1) << c.to;
+    const std::string err = testing::internal::GetCapturedStderr();
+    EXPECT_NE(err.find(c.where), std::string::npos) << c.to << ": " << err;
+    EXPECT_FALSE(std::filesystem::exists(h5)) << c.to;
+  }
+  testing::internal::CaptureStderr();
+  write(toml, finite);
+  EXPECT_EQ(run({toml.string(), "-o", h5.string(), "--speed-rpm", "1e300"}), 1);
+  const std::string err = testing::internal::GetCapturedStderr();
+  EXPECT_NE(err.find("--speed-rpm"), std::string::npos) << err;
+}
+
+// Specs built in code skip the reader: validate() refuses non-finite feeds, and the cell index of a feed is
+// clamped to the grid before the conversion to int whatever the (finite) position.
+TEST(bearing_input, FeedOutsideTheGridTakesAnEdgeCellAndNonFiniteFeedsAreRefused) {
+  BearingSpec s;
+  s.model = Model::kFinite;
+  s.diameter = 0.05;
+  s.width = 0.02;
+  s.radial_clearance = 25e-6;
+  s.viscosity = 0.01;
+  s.cells_around = 16;
+  s.cells_across = 4;
+  s.holes.push_back({1e300, -1e300, 1e-9});  // tiny, far away: the nearest cell in range
+  const FiniteBearing b(s);
+  const Eigen::MatrixXi supply = b.supply_cells();
+  EXPECT_EQ(supply.sum(), 1);
+  s.holes[0].angle = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(FiniteBearing{s}, Error);
+  s.holes[0].angle = 0;
+  s.holes[0].axial_position = std::numeric_limits<double>::infinity();
+  EXPECT_THROW(FiniteBearing{s}, Error);
 }
 
 }  // namespace

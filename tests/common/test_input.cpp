@@ -172,6 +172,135 @@ TEST(Input, RangesWithOpenAndClosedEnds) {
   EXPECT_EQ(e.message(), "expected an integer, got a number 0.25");
 }
 
+// Issue 18 item 4: every range is finite by default; +-inf, NaN and subnormal numbers are refused by every
+// getter (ranged or not), with file, line, column and key.
+TEST(Input, NumbersMustBeFiniteEverywhere) {
+  const double inf = std::numeric_limits<double>::infinity();
+  EXPECT_FALSE(Range{}.contains(inf));
+  EXPECT_FALSE(Range{}.contains(-inf));
+  EXPECT_FALSE(Range::positive().contains(inf));
+  EXPECT_FALSE(Range::at_least(0).contains(inf));
+  EXPECT_FALSE(Range::positive().contains(1e-320));  // subnormal
+  EXPECT_FALSE(Range{}.contains(-4e-324));
+  EXPECT_TRUE(Range{}.contains(0.0));
+  EXPECT_TRUE(Range{}.contains(std::numeric_limits<double>::min()));
+  EXPECT_TRUE(Range{}.contains(std::numeric_limits<double>::max()));
+  EXPECT_TRUE(Range::positive().allow_infinite().contains(inf));
+  EXPECT_FALSE(Range::positive().allow_infinite().contains(-inf));  // still the bounds
+  EXPECT_FALSE(Range{}.allow_infinite().contains(std::numeric_limits<double>::quiet_NaN()));
+  EXPECT_TRUE(Range::magnitude(2).contains(-2.0));
+  EXPECT_FALSE(Range::magnitude(2).contains(2.5));
+  EXPECT_EQ(Range::at_most(3).describe(), "a number <= 3");
+
+  const auto doc = Document::parse(
+      "a = inf\n"                         // 1
+      "b = -inf\n"                        // 2
+      "c = nan\n"                         // 3
+      "d = 1e-320\n"                      // 4
+      "at = [0, 0, inf]\n"                // 5  inf at column 13
+      "list = [1.0, -inf]\n"              // 6  -inf at column 14
+      "rows = [[0, 1], [nan, 2]]\n"       // 7  nan at column 18
+      "pts = [[0, 0, 0], [1, inf, 0]]\n"  // 8  inf at column 23
+      "[t]\n"                             // 9
+      "x = +inf\n",                       // 10
+      "test.toml");
+  const Table root = doc.root();
+  Error e = expect_error([&] { root.number("a"); });
+  expect_at(e, 1, 5, "a");
+  EXPECT_EQ(e.message(), "expected a number, got inf (numbers must be finite)");
+  e = expect_error([&] { root.number("b", Range::at_least(-1e9)); });
+  expect_at(e, 2, 5, "b");
+  EXPECT_EQ(e.message(), "expected a number >= -1e+09, got -inf (numbers must be finite)");
+  e = expect_error([&] { root.optional_number("c", Range::non_negative()); });
+  expect_at(e, 3, 5, "c");
+  EXPECT_TRUE(Contains(e.message(), "numbers must be finite"));
+  e = expect_error([&] { root.number_or("d", 1.0, Range::positive()); });
+  expect_at(e, 4, 5, "d");
+  EXPECT_TRUE(Contains(e.message(), "got 1e-320 (a subnormal number"));
+  e = expect_error([&] { root.vec3("at"); });
+  expect_at(e, 5, 13, "at[3]");
+  EXPECT_EQ(e.message(), "expected a number, got inf (numbers must be finite)");
+  e = expect_error([&] { root.numbers("list"); });
+  expect_at(e, 6, 14, "list[2]");
+  e = expect_error([&] { root.number_rows("rows", 2); });
+  expect_at(e, 7, 18, "rows[2][1]");
+  EXPECT_TRUE(Contains(e.message(), "numbers must be finite"));
+  e = expect_error([&] { root.vec3_list("pts"); });
+  expect_at(e, 8, 23, "pts[2][2]");
+  e = expect_error([&] { root.table("t").optional_vec3("x"); });
+  EXPECT_EQ(e.key(), "t.x");
+  e = expect_error([&] { root.table("t").number("x", Range::positive()); });
+  expect_at(e, 10, 5, "t.x");
+  // Where a key allows infinity, the bounds still apply.
+  EXPECT_EQ(root.table("t").number("x", Range::positive().allow_infinite()), inf);
+}
+
+// Issue 18 item 3: deep nesting overflowed toml11's recursive parser (a crash) and long lines took quadratic
+// time; both are refused before toml11 sees the text, naming the file and line.
+TEST(Input, DeepNestingIsRefusedBeforeParsing) {
+  const int deep = 6000;
+  const std::string arrays = "# nested\na = " + std::string(deep, '[') + std::string(deep, ']') + "\n";
+  Error e = expect_error([&] { Document::parse(arrays, "test.toml"); });
+  expect_at(e, 2, 5 + kMaxNesting, "");
+  EXPECT_TRUE(Contains(e.message(), "nested deeper than 64 levels"));
+
+  std::string tables = "b = ";
+  for (int i = 0; i < deep; ++i) tables += "{x = ";
+  tables += "1" + std::string(deep, '}') + "\n";
+  e = expect_error([&] { Document::parse(tables, "test.toml"); });
+  EXPECT_EQ(e.where().line, 1) << e.what();
+  EXPECT_TRUE(Contains(e.message(), "nested deeper than 64 levels"));
+
+  std::string dotted = "c";
+  for (int i = 0; i < 100000; ++i) dotted += ".d";
+  e = expect_error([&] { Document::parse("x = 1\n" + dotted + " = 1\n", "test.toml"); });
+  EXPECT_EQ(e.where().line, 2) << e.what();
+  EXPECT_TRUE(Contains(e.message(), "a dotted key of more than 64 parts"));
+  e = expect_error([&] { Document::parse("x = 1\n[" + dotted + "]\ny = 2\n", "test.toml"); });
+  EXPECT_EQ(e.where().line, 2) << e.what();
+  EXPECT_TRUE(Contains(e.message(), "a dotted key of more than 64 parts"));
+
+  // At the limits, and with brackets, braces and dots in strings and comments, files parse as before.
+  const std::string ok = "a = " + std::string(kMaxNesting, '[') + std::string(kMaxNesting, ']') + "\n" +
+                         "s = \"[[[[{{{{ a.b.c \\\" [[[\"\n"
+                         "l = '[[[[{{{{'\n"
+                         "m = \"\"\"\n[[[[\n\\\"\"\" {{{{ \"\"\"\"\"\n"
+                         "n = '''\n{{{{''''\n"
+                         "# [[[[[[[[ {{{{{{ a.b.c.d\n"
+                         "v = 1.5\n"
+                         "t = [{ a.b = 1.25, c = [1.5, 2.5] }, {}]\n"
+                         "[\"q.r\".s]\n"
+                         "w = { \"x.y\" = 2 }\n";
+  const auto doc = Document::parse(ok, "test.toml");
+  EXPECT_EQ(doc.root().string("s"), "[[[[{{{{ a.b.c \" [[[");
+  EXPECT_EQ(doc.root().string("m"), "[[[[\n\"\"\" {{{{ \"\"");
+  EXPECT_EQ(doc.root().string("n"), "{{{{'");
+  EXPECT_DOUBLE_EQ(doc.root().number("v"), 1.5);
+  EXPECT_EQ(doc.root().table("q.r").table("s").table("w").number("x.y"), 2.0);
+  std::string parts = "k";
+  for (int i = 1; i < kMaxNesting; ++i) parts += ".k";
+  EXPECT_NO_THROW(Document::parse(parts + " = 1\n", "test.toml"));
+  EXPECT_THROW(Document::parse(parts + ".k = 1\n", "test.toml"), Error);
+}
+
+TEST(Input, LongLinesAreRefusedBeforeParsing) {
+  // 20k numbers on one line (40 KB) are within the limit and parse in well under a second.
+  std::string line = "a = [1";
+  for (int i = 1; i < 20000; ++i) line += ",1";
+  line += "]\n";
+  ASSERT_LE(line.size(), kMaxLineLength);
+  const auto doc = Document::parse("x = 1\n" + line, "test.toml");
+  EXPECT_EQ(doc.root().numbers("a").size(), 20000u);
+
+  std::string longer = "a = [1";
+  while (longer.size() <= kMaxLineLength) longer += ", 1";
+  longer += "]";
+  const Error e = expect_error([&] { Document::parse("x = 1\n\n" + longer + "\n", "test.toml"); });
+  expect_at(e, 3, 1, "");
+  EXPECT_TRUE(Contains(e.message(), "bytes; the limit is 65536 bytes per line"));
+  EXPECT_THROW(Document::parse(longer, "test.toml"), Error);  // the last line, without a newline
+}
+
 TEST(Input, OtherTypeMismatches) {
   const auto doc = Document::parse(
       "flag = \"yes\"\n"  // 1

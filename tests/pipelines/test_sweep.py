@@ -81,7 +81,7 @@ def check_gathered(d: Path, output: str):
             fail(f"point {i}: goal {goal[i]} against {goal_ref}")
     if not math.isnan(goal[3]):
         fail("the failed point has a goal value")
-    if "point 3 (k = -1.0" not in output or "'force[1].k': expected a number >= 0" not in output:
+    if "point 3 (k = -1.0" not in output or "'force[1].k': expected a number in [0, 1e+20], got -1.0" not in output:
         fail("gather did not report the failed point with its parameters and the log's error line")
     best = int(np.nanargmin(goal))
     if best != 2:

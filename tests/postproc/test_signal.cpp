@@ -146,6 +146,21 @@ TEST_F(postproc_signal, CsvColumns) {
   EXPECT_NE(e.find("meas.csv:3: column 'acc': 'x' is not a finite number"), std::string::npos) << e;
 }
 
+// Issue 18 item 4: samples and times that are not finite name the CSV file and line; a time step so small
+// that the rate is infinite is refused.
+TEST_F(postproc_signal, NonFiniteCsvNamesTheFileAndLine) {
+  const fs::path path = dir_ / "meas.csv";
+  for (const std::string bad : {"inf", "-inf", "nan", "1e999"}) {
+    std::ofstream(path) << "time,acc\n0,1\n0.002,2\n0.004," << bad << "\n";
+    const std::string e = error_of(path.string() + ":acc");
+    EXPECT_NE(e.find("meas.csv:4: column 'acc': '" + bad + "' is not a finite number"), std::string::npos)
+        << e;
+  }
+  std::ofstream(path) << "time,acc\n0,1\n1e-320,2\n2e-320,3\n";
+  const std::string e = error_of(path.string() + ":acc");
+  EXPECT_NE(e.find("gives no finite sample rate"), std::string::npos) << e;
+}
+
 // Round trip: ASCII keeps 13 significant digits (E20.12), binary is exact; the sample interval survives
 // (E13.6 holds 1/51200 s exactly).
 TEST_F(postproc_signal, Uff58RoundTrip) {
@@ -182,6 +197,48 @@ TEST_F(postproc_signal, Uff58RoundTrip) {
     const SignalSource s = SignalSource::open(path.string() + ":2");
     EXPECT_EQ(s.info().name, "second");
     EXPECT_DOUBLE_EQ(s.info().sample_rate_hz, 51200.0);
+  }
+}
+
+// Issue 18 item 4: a dataset 58 sample or record-7 field that is not finite (inf, nan, an overflow such as
+// 1e999, a subnormal increment whose rate is infinite) or a point count beyond any measurement is refused,
+// naming the file and line.
+TEST_F(postproc_signal, NonFiniteUff58NamesTheFileAndLine) {
+  const std::string good =
+      "    -1\n    58\nAccelerometer 7\nNONE\n21-Nov-26 08:00:00\nNONE\nNONE\n"
+      "    1         0    0         0 NONE              7   3 NONE              0   0\n"
+      "         2         4         1  0.00000E+00  1.00000E-03  0.00000E+00\n"
+      "        17    0    0    0 Time                 s                   \n"
+      "        12    0    0    0 Acceleration         m/s^2               \n"
+      "         0    0    0    0 NONE                 NONE                \n"
+      "         0    0    0    0 NONE                 NONE                \n"
+      "  1.00000E+00  2.00000E+00 -3.50000E+00  4.00000E-01\n    -1\n";
+  const fs::path path = dir_ / "bad.unv";
+  std::ofstream(path) << good;
+  EXPECT_EQ(read_uff58(path).at(0).values.size(), 4u);
+  struct Case {
+    std::string from, to, expected;
+  };
+  const std::vector<Case> cases = {
+      {"-3.50000E+00", "         inf", "bad.unv:14: dataset 58: 'inf' is not a finite number (sample 2"},
+      {"-3.50000E+00", "        -nan", "bad.unv:14: dataset 58: '-nan' is not a finite number"},
+      {"-3.50000E+00", "       1e999", "bad.unv:14: dataset 58: '1e999' is not a finite number"},
+      {"  1.00000E-03", "  1.0000E-320",
+       "bad.unv:9: dataset 58: record 7: abscissa increment: '1.0000E-320'"},
+      {"  1.00000E-03", "          inf", "bad.unv:9: dataset 58: record 7: abscissa increment: 'inf'"},
+      {"         4         1", "     1e300         1", "bad.unv:9: dataset 58: record 7: number of points"},
+      {"         4         1", "       nan         1", "bad.unv:9: dataset 58: record 7: number of points"},
+  };
+  for (const Case& c : cases) {
+    std::string text = good;
+    text.replace(text.find(c.from), c.from.size(), c.to);
+    std::ofstream(path) << text;
+    try {
+      read_uff58(path);
+      ADD_FAILURE() << "expected an error for " << c.to;
+    } catch (const nvh::Error& e) {
+      EXPECT_NE(std::string(e.what()).find(c.expected), std::string::npos) << e.what();
+    }
   }
 }
 

@@ -2,6 +2,7 @@
 // no output.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <fstream>
 
@@ -44,7 +45,8 @@ TEST(SolveSceneErrors, MarkerNotOnItsBodyListsTheMarkers) {
 
 TEST(SolveSceneErrors, NonPositiveMassAndInertia) {
   std::string text = kBase + kClock;
-  EXPECT_NE(error_of(std::string(text).replace(text.find("mass = 1.0"), 10, "mass = 0.0")).find("mass': expected a number > 0"),
+  EXPECT_NE(error_of(std::string(text).replace(text.find("mass = 1.0"), 10, "mass = 0.0"))
+                .find("mass': expected a number in (0, 1e+12], got 0"),
             std::string::npos);
   EXPECT_NE(error_of(std::string(text).replace(text.find("[0.1, 0.1, 0.1]"), 15, "[0.1, -0.1, 0.1]")).find("positive definite"),
             std::string::npos);
@@ -98,6 +100,111 @@ TEST(SolveSceneErrors, HelpListsEveryRegisteredElementType) {
     ++listed;
   }
   EXPECT_GE(listed, 11);  // the shipped types (force_element.hpp); fewer means the registry lost some
+}
+
+// Issue 18 item 4: numbers that are not finite, or absurd (a point mass of 1e308, a sample rate that never
+// ends the run), are refused where they are read: the error names the file, the line of the value and the
+// key. `value` is the text of the offending value; its line is found in `text`.
+void expect_refused(const std::string& text, const std::string& value, const std::string& key,
+                    const std::string& why = "") {
+  const std::string msg = error_of(text);
+  const auto at = text.find(value);
+  ASSERT_NE(at, std::string::npos) << value;
+  const auto line = 1 + std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(at), '\n');
+  EXPECT_NE(msg.find("bad.toml:" + std::to_string(line) + ":"), std::string::npos) << value << ": " << msg;
+  EXPECT_NE(msg.find("'" + key + "'"), std::string::npos) << value << ": " << msg;
+  if (!why.empty()) {
+    EXPECT_NE(msg.find(why), std::string::npos) << value << ": " << msg;
+  }
+}
+
+const std::string kFinite = "numbers must be finite";
+const std::string kContact =
+    "[[force]]\nname = \"c\"\ntype = \"contact\"\ni = \"arm.pivot\"\nj = \"ground.a\"\nstiffness = 1e8\n";
+
+TEST(SolveSceneErrors, NonFiniteNumbersAreRefusedNamingTheKey) {
+  expect_refused(kBase + "  at = [0, 0, inf]\n" + kClock, "[0, 0, inf]", "body[2].marker[1].at[3]", kFinite);
+  expect_refused(kBase + "  z = [0, -inf, 1]\n" + kClock, "[0, -inf, 1]", "body[2].marker[1].z[2]", kFinite);
+  std::string body = kBase;
+  body.replace(body.find("mass = 1.0"), 10, "mass = 1.0\nposition = [nan, 0, 0]");
+  expect_refused(body + kClock, "[nan, 0, 0]", "body[2].position[1]", kFinite);
+  expect_refused("[scene]\ngravity = [0, 0, -inf]\n" + kBase + kClock, "[0, 0, -inf]", "scene.gravity[3]",
+                 kFinite);
+  expect_refused(kBase + kContact + "clearance = inf\n" + kClock, "clearance = inf", "force[1].clearance",
+                 kFinite);
+  expect_refused(kBase + kContact + "clearance = -inf\n" + kClock, "clearance = -inf", "force[1].clearance",
+                 kFinite);
+  expect_refused(kBase + kContact + "clearance = 1e300\n" + kClock, "clearance = 1e300",
+                 "force[1].clearance");
+  expect_refused(kBase + "[clock]\nstart_time = -inf\nend_time = 0.01\n", "-inf", "clock.start_time",
+                 kFinite);
+  expect_refused(kBase + kClock + "[output]\nsample_rate_hz = inf\n", "inf", "output.sample_rate_hz",
+                 kFinite);
+  expect_refused(
+      kBase + "[[driver]]\nname = \"d\"\ntype = \"speed\"\ni = \"arm.pivot\"\nj = \"ground.a\"\nrpm = inf\n" +
+          kClock,
+      "rpm = inf", "driver[1].rpm", kFinite);
+  expect_refused(kBase +
+                     "[[load]]\nname = \"p\"\ntype = \"force\"\nat = \"arm.pivot\"\ndirection = [0, 0, 1]\n"
+                     "table = [[0.0, 1.0], [nan, 2.0]]\n" +
+                     kClock,
+                 "[nan, 2.0]", "load[1].table[2][1]", kFinite);
+  expect_refused(
+      kBase +
+          "[[force]]\nname = \"s\"\ntype = \"spring-damper\"\ni = \"arm.pivot\"\nj = \"ground.a\"\n"
+          "k = 1e5\nkB = -inf\n" +
+          kClock,
+      "kB = -inf", "force[1].kB", kFinite);
+  expect_refused(
+      kBase +
+          "[[force]]\nname = \"s\"\ntype = \"spring-damper\"\ni = \"arm.pivot\"\nj = \"ground.a\"\n"
+          "k = 1e5\nxB = 1e-320\n" +
+          kClock,
+      "xB = 1e-320", "force[1].xB", "subnormal");
+}
+
+TEST(SolveSceneErrors, AbsurdValuesAreRefusedNamingTheKey) {
+  expect_refused(kBase + "[[body]]\nname = \"m\"\ntype = \"point-mass\"\nmass = 1e308\n" + kClock,
+                 "mass = 1e308", "body[3].mass", "expected a number in (0, 1e+12]");
+  expect_refused(kBase + kClock + "[output]\nsample_rate_hz = 1e308\n", "1e308", "output.sample_rate_hz");
+  expect_refused(
+      kBase +
+          "[[driver]]\nname = \"d\"\ntype = \"speed\"\ni = \"arm.pivot\"\nj = \"ground.a\"\nrpm = 1e300\n" +
+          kClock,
+      "rpm = 1e300", "driver[1].rpm");
+  // The number of samples: (end_time - start_time) * sample_rate_hz <= 1e9, named at the rate (or the end).
+  expect_refused(kBase + "[clock]\nend_time = 1000.0\n[output]\nsample_rate_hz = 1e7\n", "sample_rate_hz",
+                 "output.sample_rate_hz", "1e+10 samples, more than the limit of 1e+09 samples per run");
+  expect_refused(kBase + "[clock]\nend_time = 1e9\n", "end_time", "clock.end_time",
+                 "more than the limit of 1e+09");
+  expect_refused(kBase + kClock + "[integrator]\natol = 1e308\n", "atol", "integrator.atol");
+  // A fixed generalized-alpha step that could never reach the end.
+  expect_refused(kBase + kClock + "[integrator]\nmethod = \"generalized-alpha\"\nstep = 1e-300\n",
+                 "step =", "integrator.step", "steps, more than the limit of 1e+10");
+  expect_refused(kBase + "[clock]\ni = \"arm.pivot\"\nj = \"ground.a\"\nend_cycles = 1e300\n", "end_cycles",
+                 "clock.end_cycles");
+  // A run by crank angle: an end_time_limit given keeps within the samples too; the default does by itself.
+  const std::string by_angle = kBase + "[clock]\ni = \"arm.pivot\"\nj = \"ground.a\"\nend_cycles = 2\n";
+  expect_refused(by_angle + "end_time_limit = 1e6\n", "end_time_limit", "clock.end_time_limit",
+                 "1e+10 samples, more than the limit of 1e+09");
+  const Scene scene = parse_scene(by_angle + "[output]\nsample_rate_hz = 1e5\n", "ok.toml", ".");
+  EXPECT_DOUBLE_EQ(scene.end_time, 1e4);  // 1e9 samples at 1e5 Hz
+}
+
+// CSV tables: a number that is not finite names the CSV file and its line, inside the error at the scene's
+// key.
+TEST(SolveSceneErrors, NonFiniteNumberInACsvTableNamesTheFileAndLine) {
+  const auto csv = testing::temp_path("inf_table.csv");
+  std::ofstream(csv) << "time,force\n0.0,1.0\n0.1,inf\n";
+  const std::string text = kBase +
+                           "[[load]]\nname = \"p\"\ntype = \"force\"\nat = \"arm.pivot\"\n"
+                           "direction = [0, 0, 1]\nfile = \"" +
+                           csv.string() + "\"\n" + kClock;
+  expect_refused(text, "file =", "load[1].file", csv.string() + ":3: column 2: 'inf' is not a finite number");
+  std::ofstream(csv) << "time,force\n0.0,1.0\nnan,2.0\n";
+  expect_refused(text, "file =", "load[1].file", csv.string() + ":3: column 1: 'nan' is not a finite number");
+  std::ofstream(csv) << "time,force\n0.0,1.0\n0.1,1e999\n";
+  expect_refused(text, "file =", "load[1].file", csv.string() + ":3: column 2: '1e999'");
 }
 
 }  // namespace
