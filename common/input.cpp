@@ -671,6 +671,22 @@ std::string Table::string(std::string_view key) const {
   return impl_->to_string(*v, impl_->key_path(key));
 }
 
+std::string Table::name(std::string_view key) const {
+  const std::string text = string(key);
+  auto refuse = [&](const std::string& why) {
+    fail(key, "expected a name (1 to 128 characters, no '/' or control character): " + why);
+  };
+  if (text.empty()) refuse("it is empty");
+  if (text.size() > 128) refuse("it has " + std::to_string(text.size()) + " characters");
+  if (text == "." || text == "..") refuse("\"" + text + "\" is a path of its own");
+  for (const char c : text) {
+    const auto u = static_cast<unsigned char>(c);
+    if (c == '/') refuse("'/' separates the groups of the output file");
+    if (u < 0x20 || u == 0x7f) refuse("it holds the control character " + std::to_string(u));
+  }
+  return text;
+}
+
 std::optional<std::string> Table::optional_string(std::string_view key) const {
   const toml::value* v = impl_->lookup(key);
   if (!v) return std::nullopt;

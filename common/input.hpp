@@ -114,6 +114,9 @@ class Table {
   std::optional<bool> optional_boolean(std::string_view key) const;
   std::string string(std::string_view key) const;
   std::optional<std::string> optional_string(std::string_view key) const;
+  /// A name that becomes part of an HDF5 path in an output file (a body, marker, element, interface): 1 to 128
+  /// bytes, no control character, no '/' (the path separator), not "." or "..". Error otherwise.
+  std::string name(std::string_view key) const;
   /// A string that must be one of `choices` (error lists them, with a did-you-mean).
   std::string choice(std::string_view key, const std::vector<std::string>& choices) const;
   std::optional<std::string> optional_choice(std::string_view key,

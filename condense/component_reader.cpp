@@ -202,7 +202,7 @@ std::vector<NamedPoint> read_points(const Table& root, const std::string& key, b
     NamedPoint p;
     p.where = pt.location("at");
     p.path = pt.path();
-    p.name = pt.string("name");
+    p.name = pt.name("name");
     if (p.name.empty()) pt.fail("name", "expected a non-empty name");
     if (!names.insert(p.name).second)
       pt.fail("name", "the name \"" + p.name + "\" is used twice in [[" + key + "]]");
@@ -291,7 +291,7 @@ Component read(const input::Document& doc, const std::filesystem::path& file) {
   c.file = file;
   const Table root = doc.root();
   const Table comp = root.table("component");
-  c.name = comp.string("name");
+  c.name = comp.name("name");
   c.kind = comp.choice("kind", {"beam", "volume"});
   comp.finish();
 

@@ -65,7 +65,7 @@ class SceneReader {
  private:
   // ------------------------------------------------------------------ bodies and markers
   void read_body(const Table& t) {
-    const std::string name = t.string("name");
+    const std::string name = t.name("name");
     if (name.empty() || name.find('.') != std::string::npos)
       t.fail("name", "a body name must be non-empty and contain no '.' (markers are named body.marker)");
     if (body_index_.count(name)) t.fail("name", "a body named '" + name + "' is defined twice");
@@ -124,7 +124,7 @@ class SceneReader {
     }
     for (const auto& m : t.table_array("marker")) {
       MarkerDefinition md;
-      md.name = m.string("name");
+      md.name = m.name("name");
       if (body->find_marker(md.name) >= 0) m.fail("name", "marker '" + md.name + "' is defined twice on body '" + name + "'");
       md.position = to_vec(m.optional_vec3("at", kPosition).value_or(std::array<double, 3>{0, 0, 0}));
       const Vec3 z = to_vec(m.optional_vec3("z", kDirection).value_or(std::array<double, 3>{0, 0, 1}));
@@ -183,7 +183,7 @@ class SceneReader {
   }
 
   void read_joint(const Table& t) {
-    const std::string name = t.string("name");
+    const std::string name = t.name("name");
     static const std::map<std::string, JointType> types = {{"fixed", JointType::kFixed},
                                                            {"revolute", JointType::kRevolute},
                                                            {"spherical", JointType::kSpherical},
@@ -214,7 +214,7 @@ void SceneReader::read_driver(const Table& t) {
   for (const auto& n : builtin_elements().names("driver")) types.push_back(n);
   const std::string type = t.choice("type", types);
   if (type != "speed") return read_element(t, "driver");  // a torque-speed curve: a force element
-  const std::string name = t.string("name");
+  const std::string name = t.name("name");
   const MarkerRef i = marker(t, "i"), j = marker(t, "j");
   // Prescribed speed: the angle theta(t) = theta0 + integral of omega(t); theta0 is the initial angle.
   const double theta0 = relative_angle(initial_motion(i), initial_motion(j));
@@ -236,7 +236,7 @@ void SceneReader::read_driver(const Table& t) {
 }
 
 void SceneReader::read_element(const Table& t, const std::string& section) {
-  const std::string name = t.string("name");
+  const std::string name = t.name("name");
   const ElementRegistry& registry = builtin_elements();
   const std::string type = section == "driver" ? t.string("type") : t.choice("type", registry.names(section));
   const ElementType& et = *registry.find(section, type);

@@ -570,3 +570,30 @@ TEST(Input, EditDistanceAndClosest) {
 
 }  // namespace
 }  // namespace nvh::input
+
+// A name becomes an HDF5 group in the output (/bodies/NAME, /forces/NAME): "/" would nest groups, a NUL
+// would cut the path short, both found by the fuzzer (tests/fuzz) as errors naming "out.h5:/joints/".
+TEST(Input, NamesThatWouldBreakAnOutputPathAreRefused) {
+  const auto doc = nvh::input::Document::parse(
+      "a = \"crank\"\n"
+      "b = \"cyl\\u0000inder\"\n"
+      "c = \"crank/pin\"\n"
+      "d = \"\"\n"
+      "e = \"..\"\n"
+      "f = \"main bearing 3 (front)\"\n",
+      "names.toml");
+  const nvh::input::Table t = doc.root();
+  EXPECT_EQ(t.name("a"), "crank");
+  EXPECT_EQ(t.name("f"), "main bearing 3 (front)");
+  for (const char* key : {"b", "c", "d", "e"}) {
+    try {
+      (void)t.name(key);
+      ADD_FAILURE() << key << " was accepted";
+    } catch (const nvh::Error& e) {
+      const std::string m = e.what();
+      EXPECT_NE(m.find("names.toml:"), std::string::npos) << m;
+      EXPECT_NE(m.find(std::string("'") + key + "'"), std::string::npos) << m;
+      EXPECT_NE(m.find("expected a name"), std::string::npos) << m;
+    }
+  }
+}
