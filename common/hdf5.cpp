@@ -23,6 +23,13 @@ constexpr hsize_t kAutoChunkThreshold = 4096;
 constexpr hsize_t kChunkTargetValues = 16384;
 constexpr int kDefaultDeflateLevel = 4;
 
+// No HDF5 exit handler. HDF5 1.10 keeps the id of an object whose close failed (a full disk: H5Fclose,
+// H5Dclose cannot write what they hold) in its tables, pointing at memory it has already freed; its exit
+// handler closes every id left and crashes on those. Every file is closed by its h5::File before exit,
+// so the handler has nothing else to do. H5dont_atexit only acts before the library initializes, hence a
+// static initializer (this file is linked into every tool that uses HDF5).
+[[maybe_unused]] const bool kNoHdf5ExitHandler = H5dont_atexit() >= 0;
+
 // ---------------------------------------------------------------------------------------------
 // Errors
 
@@ -36,6 +43,14 @@ std::string hdf5_detail() {
   };
   H5Ewalk2(H5E_DEFAULT, H5E_WALK_UPWARD, take_first, &detail);
   H5Eclear2(H5E_DEFAULT);
+  // A failed read or write of the file driver is a multi-line record (time, descriptor, buffer address,
+  // offsets): keep its first words and the system's message, e.g. "file write failed: No space left on device".
+  const size_t system = detail.find("error message = '");
+  if (system != std::string::npos) {
+    const size_t begin = system + std::strlen("error message = '");
+    const size_t end = detail.find('\'', begin);
+    detail = detail.substr(0, detail.find(':')) + ": " + detail.substr(begin, end - begin);
+  }
   return detail.empty() ? std::string() : " (HDF5: " + detail + ")";
 }
 
@@ -561,7 +576,7 @@ void AppendableDataset::truncate(hsize_t rows) {
 
 void AppendableDataset::flush() {
   if (!dataset_.valid()) throw Error("flush() on an AppendableDataset not made by Group::create_appendable");
-  check_status(H5Dflush(dataset_.get()), path_, "cannot flush");
+  check_status(H5Dflush(dataset_.get()), path_, "cannot write the appended rows to disk");
 }
 
 // =============================================================================================
@@ -1010,14 +1025,20 @@ const Group& File::root() const {
   return root_;
 }
 
+void File::flush() {
+  if (!file_.valid()) throw Error(path_.string() + ": the file is closed (committed or moved from)");
+  check_status(H5Fflush(file_.get(), H5F_SCOPE_GLOBAL), path_.string(), "cannot write to disk");
+}
+
 void File::commit() {
   const std::string name = path_.string();
   if (temporary_.empty()) fail(name, "commit() of a file not made by File::create, or committed already");
   // Close explicitly to see errors (a full disk shows up here); the strong close degree closes every
   // object still open in the file first. The Handle then finds its id invalid and does nothing.
   root_ = Group();
-  check_status(H5Fclose(file_.get()), name, "cannot write '" + temporary_.string() + "'");
-  file_ = Handle();
+  // The id is released before the close: after a failed H5Fclose it must never be closed again.
+  check_status(H5Fclose(file_.release()), name,
+               "cannot write the file (its temporary '" + temporary_.string() + "' is removed)");
   std::error_code error;
   std::filesystem::rename(temporary_, path_, error);
   if (error) fail(name, "cannot rename '" + temporary_.string() + "' onto it: " + error.message());
