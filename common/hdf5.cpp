@@ -270,13 +270,16 @@ void create_dataset(hid_t loc, std::string_view name, const std::string& where, 
   const Handle space = make_dataspace(dims, where);
   const Handle dcpl = dataset_creation_plist(chunk, deflate_level, where);
   const Handle lcpl = intermediate_groups_lcpl();
-  const Handle dataset(check_id(
+  Handle dataset(check_id(
       H5Dcreate2(loc, std::string(name).c_str(), file_type, space.get(), lcpl.get(), dcpl.get(), H5P_DEFAULT),
       where, "cannot create dataset"));
   // HDF5 rejects a null buffer even for zero values, and an empty std::vector may have one.
   if (element_count(dims) == 0) return;
   check_status(H5Dwrite(dataset.get(), mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), where,
                "cannot write dataset");
+  // The data may still be in HDF5's chunk cache or sieve buffer: the close writes it, and on a full disk
+  // fails there. A silent close would lose the data and commit a file without it.
+  check_status(H5Dclose(dataset.release()), where, "cannot write dataset");
 }
 
 void create_double_dataset(hid_t loc, std::string_view name, const std::string& where, const double* data,
