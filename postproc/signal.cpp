@@ -402,6 +402,10 @@ void open_uff(const ParsedAddress& a, SignalInfo& info, SignalSource::Impl& impl
 
 }  // namespace
 
+std::filesystem::path SignalSource::file_of(const std::string& text) {
+  return parse_address(split_named_address(text).second).file;
+}
+
 SignalSource SignalSource::open(const std::string& text) {
   const auto [name, address] = split_named_address(text);
   const ParsedAddress parsed = parse_address(address);
