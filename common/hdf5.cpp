@@ -6,6 +6,9 @@
 
 #include <algorithm>
 #include <cstring>
+#include <fstream>
+#include <map>
+#include <mutex>
 #include <functional>
 #include <numeric>
 #include <system_error>
@@ -424,8 +427,22 @@ void require_numeric(const Source& source, const Handle& type, bool integer_only
   }
 }
 
+// A corrupted shape can claim more values than the file could hold even compressed (deflate's ratio is at
+// most about 1032:1): refuse it before allocating, rather than failing in the allocator.
+void require_plausible_size(const Source& source, hsize_t count, hsize_t value_size) {
+  const Handle file(H5Iget_file_id(source.object.get()));
+  hsize_t file_size = 0;
+  if (!file.valid() || H5Fget_filesize(file.get(), &file_size) < 0) return;
+  const hsize_t limit = (file_size + (hsize_t{1} << 20)) * 1100 / std::max<hsize_t>(value_size, 1);
+  if (count > limit) {
+    fail(source.where, "corrupt: its shape holds " + std::to_string(count) + " values, more than the file (" +
+                           std::to_string(file_size) + " bytes) can hold");
+  }
+}
+
 std::vector<double> read_doubles(const Source& source, hsize_t count) {
   require_numeric(source, type_of(source), false);
+  require_plausible_size(source, count, 8);
   std::vector<double> values(count);
   if (count > 0) read_raw(source, H5T_NATIVE_DOUBLE, values.data());
   return values;
@@ -433,9 +450,176 @@ std::vector<double> read_doubles(const Source& source, hsize_t count) {
 
 std::vector<std::int64_t> read_int64s(const Source& source, hsize_t count) {
   require_numeric(source, type_of(source), true);
+  require_plausible_size(source, count, 8);
   std::vector<std::int64_t> values(count);
   if (count > 0) read_raw(source, H5T_NATIVE_INT64, values.data());
   return values;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Variable-length strings: HDF5 1.10 reads them from "global heap collections" and trusts what it finds
+// there: a corrupted collection (an object size running past its end), or a corrupted reference (an
+// object index the collection does not have, a length shorter than the object), makes it read or copy
+// out of bounds and crash. So before the first variable-length read of a file, every collection in it
+// (found by its "GCOL" signature) is checked the way HDF5 will walk it; and before reading a
+// variable-length dataset, each of its references (raw bytes, read beside HDF5) is checked against the
+// collection it points into. Attributes' references cannot be reached through the API (they sit inside
+// object headers): for them the collection check is what there is (docs/cli.md, "corrupted inputs").
+// The checks assume HDF5's default 8-byte addresses and lengths and no user block; other files are read
+// unchecked.
+
+struct HeapCollection {
+  std::uint64_t size = 0;
+  std::map<std::uint16_t, std::uint64_t> objects;  // index -> object size
+};
+
+struct HeapCheck {
+  std::string error;                                 // the first fault found, "" if none
+  std::map<std::uint64_t, HeapCollection> collections;  // by file address
+};
+
+std::uint64_t little_endian(const unsigned char* p, int bytes) {
+  std::uint64_t value = 0;
+  for (int i = bytes - 1; i >= 0; --i) value = (value << 8) | p[i];
+  return value;
+}
+
+// Walk one collection as HDF5's loader does (header: "GCOL", version 1, 3 reserved bytes, 8-byte size;
+// objects: 2-byte index, 2-byte reference count, 4 reserved, 8-byte size, data padded to 8 bytes;
+// index 0 is the free space). "" if sound, else what is wrong.
+std::string check_collection(const std::vector<unsigned char>& bytes, HeapCollection& collection) {
+  if (bytes[4] != 1) return "unknown version " + std::to_string(bytes[4]);
+  collection.size = little_endian(bytes.data() + 8, 8);
+  if (collection.size < 4096 || collection.size != bytes.size()) return "impossible size";
+  std::size_t at = 16;
+  while (at < bytes.size()) {
+    if (at + 16 > bytes.size()) break;  // a tail too short for an object header is free space
+    const auto index = static_cast<std::uint16_t>(little_endian(bytes.data() + at, 2));
+    const std::uint64_t size = little_endian(bytes.data() + at + 8, 8);
+    const std::uint64_t need = index == 0 ? size : 16 + (size + 7) / 8 * 8;
+    if (size > bytes.size() || need == 0 || need > bytes.size() - at) {
+      return "object " + std::to_string(index) + " runs past the end of the collection";
+    }
+    if (index != 0 && !collection.objects.emplace(index, size).second) {
+      return "object " + std::to_string(index) + " appears twice";
+    }
+    at += static_cast<std::size_t>(need);
+  }
+  return "";
+}
+
+bool default_sizes(hid_t object) {
+  const Handle file(H5Iget_file_id(object));
+  if (!file.valid()) return false;
+  const Handle fcpl(H5Fget_create_plist(file.get()));
+  size_t address_size = 0, length_size = 0;
+  hsize_t userblock = 1;
+  if (!fcpl.valid() || H5Pget_sizes(fcpl.get(), &address_size, &length_size) < 0 ||
+      H5Pget_userblock(fcpl.get(), &userblock) < 0) {
+    return false;
+  }
+  return address_size == 8 && length_size == 8 && userblock == 0;
+}
+
+std::string file_name_of(hid_t object) {
+  const ssize_t length = H5Fget_name(object, nullptr, 0);
+  if (length <= 0) return "";
+  std::string name(static_cast<size_t>(length) + 1, '\0');
+  H5Fget_name(object, name.data(), name.size());
+  name.resize(static_cast<size_t>(length));
+  return name;
+}
+
+// The check of every collection of a file, made once per file and contents (path, size, time).
+const HeapCheck& heap_check(const std::string& file_name) {
+  static std::mutex mutex;
+  static std::map<std::string, std::pair<std::string, HeapCheck>> checked;
+  std::error_code error;
+  const auto size = std::filesystem::file_size(file_name, error);
+  const auto time = std::filesystem::last_write_time(file_name, error);
+  const std::string stamp = std::to_string(size) + "@" + std::to_string(time.time_since_epoch().count());
+  const std::lock_guard<std::mutex> lock(mutex);
+  auto& [known_stamp, check] = checked[file_name];
+  if (known_stamp == stamp) return check;
+  known_stamp = stamp;
+  check = HeapCheck();
+  std::ifstream in(file_name, std::ios::binary);
+  constexpr std::size_t kBlock = 1 << 20;
+  std::vector<char> block(kBlock + 3);
+  std::size_t carried = 0;  // bytes kept from the previous block (a signature split across blocks)
+  std::uint64_t block_start = 0;
+  std::vector<std::uint64_t> found;
+  while (in) {
+    in.read(block.data() + carried, static_cast<std::streamsize>(kBlock));
+    const std::size_t valid = carried + static_cast<std::size_t>(in.gcount());
+    if (valid < 4) break;
+    for (std::size_t i = 0; i + 4 <= valid; ++i) {
+      const void* hit = std::memchr(block.data() + i, 'G', valid - 3 - i);
+      if (hit == nullptr) break;
+      i = static_cast<std::size_t>(static_cast<const char*>(hit) - block.data());
+      if (std::memcmp(block.data() + i, "GCOL", 4) == 0) found.push_back(block_start + i);
+    }
+    std::memmove(block.data(), block.data() + valid - 3, 3);
+    block_start += valid - 3;
+    carried = 3;
+  }
+  for (const std::uint64_t offset : found) {
+    std::ifstream file(file_name, std::ios::binary);
+    unsigned char header[16] = {};
+    file.seekg(static_cast<std::streamoff>(offset));
+    if (!file.read(reinterpret_cast<char*>(header), 16)) continue;
+    const std::uint64_t collection_size = little_endian(header + 8, 8);
+    HeapCollection collection;
+    std::string fault;
+    if (collection_size < 16 || collection_size > size - offset) {
+      fault = "impossible size";
+    } else {
+      std::vector<unsigned char> bytes(static_cast<std::size_t>(collection_size));
+      file.seekg(static_cast<std::streamoff>(offset));
+      file.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+      fault = file ? check_collection(bytes, collection) : "cannot read it";
+    }
+    if (!fault.empty() && check.error.empty()) {
+      check.error = "corrupt variable-length string storage (global heap collection at byte " +
+                    std::to_string(offset) + ": " + fault + ")";
+    }
+    check.collections.emplace(offset, std::move(collection));
+  }
+  return check;
+}
+
+// Before HDF5 reads variable-length strings from `source`: the checks above; throws naming the file.
+void check_variable_length_strings(const Source& source, hsize_t count) {
+  const hid_t object = source.object.get();
+  if (!default_sizes(object)) return;
+  const std::string file_name = file_name_of(object);
+  if (file_name.empty()) return;
+  const HeapCheck& check = heap_check(file_name);
+  if (!check.error.empty()) fail(source.where, check.error);
+  if (source.is_attribute()) return;
+  const haddr_t offset = H5Dget_offset(object);
+  if (offset == HADDR_UNDEF) return;  // not contiguous (chunked or compact): references not reachable
+  if (H5Dget_storage_size(object) != 16 * count) fail(source.where, "corrupt: storage size does not match its shape");
+  std::vector<unsigned char> references(static_cast<std::size_t>(16 * count));
+  std::ifstream in(file_name, std::ios::binary);
+  in.seekg(static_cast<std::streamoff>(offset));
+  if (!in.read(reinterpret_cast<char*>(references.data()), static_cast<std::streamsize>(references.size()))) {
+    fail(source.where, "corrupt: its data lies beyond the end of the file");
+  }
+  for (hsize_t i = 0; i < count; ++i) {
+    const unsigned char* reference = references.data() + 16 * i;
+    const std::uint64_t length = little_endian(reference, 4);
+    const std::uint64_t address = little_endian(reference + 4, 8);
+    const auto index = static_cast<std::uint16_t>(little_endian(reference + 12, 4));
+    if (length == 0 && address == 0) continue;  // an empty string: nothing stored
+    const auto collection = check.collections.find(address);
+    const bool ok = collection != check.collections.end() && little_endian(reference + 12, 4) <= 0xffff &&
+                    collection->second.objects.count(index) > 0 &&
+                    collection->second.objects.at(index) == length;
+    if (!ok) {
+      fail(source.where, "corrupt: string " + std::to_string(i) + " refers to no stored string of its length");
+    }
+  }
 }
 
 // Strings: variable-length (ours, and h5py's str) or fixed-length (h5py's numpy bytes). HDF5 cannot
@@ -445,10 +629,13 @@ std::vector<std::string> read_strings_from(const Source& source, hsize_t count) 
   if (H5Tget_class(type.get()) != H5T_STRING) {
     fail(source.where, "expected string data, found " + describe_type(type.get()));
   }
+  const bool variable = H5Tis_variable_str(type.get()) > 0;
+  require_plausible_size(source, count, variable ? 16 : std::max<size_t>(H5Tget_size(type.get()), 1));
   std::vector<std::string> values;
   values.reserve(count);
   if (count == 0) return values;
-  if (H5Tis_variable_str(type.get()) > 0) {
+  if (variable) {
+    check_variable_length_strings(source, count);
     // HDF5 allocates each string; we copy and free them.
     const Handle mem_type = vlen_string_type();
     std::vector<char*> pointers(count, nullptr);
