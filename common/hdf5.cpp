@@ -7,9 +7,9 @@
 #include <algorithm>
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <mutex>
-#include <functional>
 #include <numeric>
 #include <system_error>
 #include <utility>
@@ -47,7 +47,8 @@ std::string hdf5_detail() {
   H5Ewalk2(H5E_DEFAULT, H5E_WALK_UPWARD, take_first, &detail);
   H5Eclear2(H5E_DEFAULT);
   // A failed read or write of the file driver is a multi-line record (time, descriptor, buffer address,
-  // offsets): keep its first words and the system's message, e.g. "file write failed: No space left on device".
+  // offsets): keep its first words and the system's message, e.g. "file write failed: No space left on
+  // device".
   const size_t system = detail.find("error message = '");
   if (system != std::string::npos) {
     const size_t begin = system + std::strlen("error message = '");
@@ -474,7 +475,7 @@ struct HeapCollection {
 };
 
 struct HeapCheck {
-  std::string error;                                 // the first fault found, "" if none
+  std::string error;                                    // the first fault found, "" if none
   std::map<std::uint64_t, HeapCollection> collections;  // by file address
 };
 
@@ -599,7 +600,8 @@ void check_variable_length_strings(const Source& source, hsize_t count) {
   if (source.is_attribute()) return;
   const haddr_t offset = H5Dget_offset(object);
   if (offset == HADDR_UNDEF) return;  // not contiguous (chunked or compact): references not reachable
-  if (H5Dget_storage_size(object) != 16 * count) fail(source.where, "corrupt: storage size does not match its shape");
+  if (H5Dget_storage_size(object) != 16 * count)
+    fail(source.where, "corrupt: storage size does not match its shape");
   std::vector<unsigned char> references(static_cast<std::size_t>(16 * count));
   std::ifstream in(file_name, std::ios::binary);
   in.seekg(static_cast<std::streamoff>(offset));
@@ -617,7 +619,8 @@ void check_variable_length_strings(const Source& source, hsize_t count) {
                     collection->second.objects.count(index) > 0 &&
                     collection->second.objects.at(index) == length;
     if (!ok) {
-      fail(source.where, "corrupt: string " + std::to_string(i) + " refers to no stored string of its length");
+      fail(source.where,
+           "corrupt: string " + std::to_string(i) + " refers to no stored string of its length");
     }
   }
 }

@@ -123,7 +123,8 @@ void TextOutput::commit() {
   close();
   std::error_code error;
   std::filesystem::rename(temporary_, path_, error);
-  if (error) throw Error(path_.string() + ": cannot rename '" + temporary_.string() + "' onto it: " + error.message());
+  if (error)
+    throw Error(path_.string() + ": cannot rename '" + temporary_.string() + "' onto it: " + error.message());
   unregister_temporary(temporary_);
   temporary_.clear();
 }

@@ -82,15 +82,16 @@ void validate(const SuperelementFile& se, const std::string& file) {
   require_ascending_frequencies(se.frequency_hz, file + ":/modes/frequency_hz");
   require_ascending_frequencies(se.fixed_interface_hz, file + ":/modes/fixed_interface_hz");
   if (static_cast<int>(se.coordinates.size()) != n) {
-    throw Error(file + ":/reduced/coordinates: " + std::to_string(se.coordinates.size()) +
-                " names for " + std::to_string(n) + " coordinates");
+    throw Error(file + ":/reduced/coordinates: " + std::to_string(se.coordinates.size()) + " names for " +
+                std::to_string(n) + " coordinates");
   }
   require_finite(se.mass, file + ":/reduced/mass");
   require_finite(se.stiffness, file + ":/reduced/stiffness");
   require_finite(se.damping, file + ":/reduced/damping");
   // The mass matrix: symmetric and positive definite up to round-off (a product basis^T M basis).
   const double scale = se.mass.cwiseAbs().maxCoeff();
-  if (n > 0 && !(scale > 0.0)) throw Error(file + ":/reduced/mass: all zero; expected a positive definite matrix");
+  if (n > 0 && !(scale > 0.0))
+    throw Error(file + ":/reduced/mass: all zero; expected a positive definite matrix");
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < i; ++j)
       if (std::abs(se.mass(i, j) - se.mass(j, i)) > 1e-8 * scale) {
@@ -127,7 +128,8 @@ void validate(const SuperelementFile& se, const std::string& file) {
         }
   }
   if (!(se.inertia.mass > 0.0) || !std::isfinite(se.inertia.mass)) {
-    throw Error(file + ":/invariants/mass: " + std::to_string(se.inertia.mass) + " kg; expected a positive mass");
+    throw Error(file + ":/invariants/mass: " + std::to_string(se.inertia.mass) +
+                " kg; expected a positive mass");
   }
   require_finite(se.inertia.center_of_mass, file + ":/invariants/center_of_mass");
   require_finite(se.inertia.inertia, file + ":/invariants/inertia");
@@ -135,9 +137,11 @@ void validate(const SuperelementFile& se, const std::string& file) {
   require_finite(se.inertia.second_moment, file + ":/invariants/second_moment");
   require_finite(se.invariants.translational, file + ":/invariants/translational_coupling");
   require_finite(se.invariants.rotational, file + ":/invariants/rotational_coupling");
-  for (const Eigen::VectorXd& v : se.invariants.position) require_finite(v, file + ":/invariants/position_coupling");
+  for (const Eigen::VectorXd& v : se.invariants.position)
+    require_finite(v, file + ":/invariants/position_coupling");
   for (const Eigen::MatrixXd& m : se.invariants.quadratic) require_finite(m, file + ":/invariants/quadratic");
-  if (se.rigid_body_modes_removed < 0 || se.rigid_body_modes_contained < 0 || se.rigid_body_modes_contained > n) {
+  if (se.rigid_body_modes_removed < 0 || se.rigid_body_modes_contained < 0 ||
+      se.rigid_body_modes_contained > n) {
     throw Error(file + ":/modes: rigid_body_modes_removed / _contained out of range (a corrupted file?)");
   }
 }

@@ -831,9 +831,9 @@ void run_stats(const StatsCommand& command, const Logger& log, int argc, const c
     table << "\n";
     for (std::size_t i = 0; i < sources.size(); ++i) {
       const Result& r = results[i];
-      table << sources[i].info().name << "," << (sources[i].info().unit.empty() ? "1" : sources[i].info().unit)
-            << "," << r.stats.mean() << "," << r.stats.rms() << "," << r.stats.peak() << ","
-            << r.stats.crest_factor();
+      table << sources[i].info().name << ","
+            << (sources[i].info().unit.empty() ? "1" : sources[i].info().unit) << "," << r.stats.mean() << ","
+            << r.stats.rms() << "," << r.stats.peak() << "," << r.stats.crest_factor();
       if (command.band_hz) table << "," << r.band_rms;
       for (const Harmonic& h : r.harmonics) table << "," << h.amplitude << "," << h.phase_deg;
       table << "\n";

@@ -675,7 +675,6 @@ TEST_F(Hdf5ErrorTest, OpeningErrors) {
             directory_.string() + ": is a directory, expected an HDF5 file");
 }
 
-
 // ---- a full disk (issue 18): a clean error naming the file, no temporary left, no crash ----
 
 // A 16 KiB tmpfs, when this process may mount one (root); the test is skipped otherwise.
@@ -686,7 +685,8 @@ class Hdf5FullDiskTest : public ::testing::Test {
     fs::create_directories(dir_);
     if (::geteuid() != 0) GTEST_SKIP() << "mounting a small tmpfs needs root";
     const std::string mount = "mount -t tmpfs -o size=16k tmpfs " + dir_.string() + " 2>/dev/null";
-    if (std::system(mount.c_str()) != 0) GTEST_SKIP() << "cannot mount a tmpfs here (a container without it?)";
+    if (std::system(mount.c_str()) != 0)
+      GTEST_SKIP() << "cannot mount a tmpfs here (a container without it?)";
     mounted_ = true;
   }
   void TearDown() override {
@@ -712,7 +712,8 @@ TEST_F(Hdf5FullDiskTest, CommitOfAFileLargerThanTheDiskFailsCleanly) {
   EXPECT_NE(message.find("No space left on device"), std::string::npos) << message;
   EXPECT_TRUE(empty()) << "the temporary is left behind";
   // HDF5 still works in this process (its state was not left corrupt by the failed close).
-  const fs::path elsewhere = fs::temp_directory_path() / ("nvh_h5_after_full_" + std::to_string(::getpid()) + ".h5");
+  const fs::path elsewhere =
+      fs::temp_directory_path() / ("nvh_h5_after_full_" + std::to_string(::getpid()) + ".h5");
   {
     File file = File::create(elsewhere);
     file.root().write("x", 1.0);

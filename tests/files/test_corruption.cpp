@@ -36,7 +36,8 @@ std::vector<char> load(const fs::path& path) {
 }
 
 void save(const fs::path& path, const std::vector<char>& bytes, std::size_t size) {
-  std::ofstream(path, std::ios::binary | std::ios::trunc).write(bytes.data(), static_cast<std::streamsize>(size));
+  std::ofstream(path, std::ios::binary | std::ios::trunc)
+      .write(bytes.data(), static_cast<std::streamsize>(size));
 }
 
 // A small beam: a superelement of a few kB, mostly HDF5 metadata (where corruption hurts most).
@@ -99,7 +100,8 @@ void read_one(const fs::path& path, const std::function<void(const fs::path&)>& 
   ::waitpid(child, &status, 0);
   if (!WIFEXITED(status)) {
     ++figures.crashes;
-    std::printf("variant %d: crashed (signal %d)\n", figures.variants, WIFSIGNALED(status) ? WTERMSIG(status) : 0);
+    std::printf("variant %d: crashed (signal %d)\n", figures.variants,
+                WIFSIGNALED(status) ? WTERMSIG(status) : 0);
   } else if (WEXITSTATUS(status) == 1) {
     ++figures.errors;
   } else if (WEXITSTATUS(status) >= 2) {
@@ -154,8 +156,8 @@ TEST(corruption, SuperelementReaderSurvivesFlippedBytesAndTruncation) {
                 (dir / "beam.h5").string() + " -q"),
             0);
   ASSERT_NO_THROW(nvh::read_superelement(dir / "beam.h5"));
-  const Figures f =
-      corrupt_and_read(dir / "beam.h5", "superelement", [](const fs::path& p) { nvh::read_superelement(p); }, 400);
+  const Figures f = corrupt_and_read(
+      dir / "beam.h5", "superelement", [](const fs::path& p) { nvh::read_superelement(p); }, 400);
   EXPECT_EQ(f.unnamed, 0);
   // The residual case of HDF5 1.10.8 (docs/cli.md): a flipped link-info address read through the metadata
   // accumulator (memcpy from its empty buffer), before any check of ours can see it. 1 of these 440.
@@ -173,8 +175,8 @@ void read_results(const fs::path& p) {
     if (root.has_attribute("input_files")) (void)root.strings_attribute("input_files");
     (void)root.members();
   }
-  for (const std::string address : {":/time", ":/crank_angle_deg", ":/markers/piston.pin/acceleration[1]",
-                                     ":/energy/balance"}) {
+  for (const std::string address :
+       {":/time", ":/crank_angle_deg", ":/markers/piston.pin/acceleration[1]", ":/energy/balance"}) {
     nvh::postproc::SignalSource s = nvh::postproc::SignalSource::open(p.string() + address);
     std::vector<double> samples(static_cast<std::size_t>(s.size()));
     s.read(0, samples);

@@ -137,18 +137,19 @@ class files : public ::testing::Test {
 TEST_F(files, CondenseRefusesToOverwriteItsComponent) {
   const std::string before = read_text(dir_ / "crankshaft.toml");
   const std::string output = (dir_ / "." / "crankshaft.toml").string();
-  expect_refused(run(kCondense + " " + at("crankshaft.toml") + " -o " + output), output, dir_ / "crankshaft.toml",
-                 before);
+  expect_refused(run(kCondense + " " + at("crankshaft.toml") + " -o " + output), output,
+                 dir_ / "crankshaft.toml", before);
 }
 
 TEST_F(files, SolveRefusesToOverwriteItsSceneOrASuperelementItReads) {
   const std::string before = read_text(dir_ / "scene.toml");
   fs::create_symlink(dir_ / "scene.toml", dir_ / "link.h5");
-  expect_refused(run(kSolve + " " + at("scene.toml") + " -o " + at("link.h5")), at("link.h5"), dir_ / "scene.toml",
-                 before);
+  expect_refused(run(kSolve + " " + at("scene.toml") + " -o " + at("link.h5")), at("link.h5"),
+                 dir_ / "scene.toml", before);
   // A flexible scene: the superelement it reads.
   fs::copy_file(kSource + "/testdata/scenes/slider_crank_flexible.toml", dir_ / "flexible.toml");
-  ASSERT_EQ(run(kCondense + " " + kSource + "/testdata/conrod.toml -o " + at("conrod.h5") + " -q").exit_code, 0);
+  ASSERT_EQ(run(kCondense + " " + kSource + "/testdata/conrod.toml -o " + at("conrod.h5") + " -q").exit_code,
+            0);
   const std::string superelement = read_text(dir_ / "conrod.h5");
   const std::string output = (dir_ / "." / "conrod.h5").string();
   expect_refused(run(kSolve + " " + at("flexible.toml") + " -o " + output), output, dir_ / "conrod.h5",
@@ -159,17 +160,18 @@ TEST_F(files, PostprocRefusesToOverwriteTheResultsItReads) {
   const fs::path r = results();
   const std::string before = read_text(r);
   fs::create_symlink(r, dir_ / "link.h5");
-  expect_refused(run(kPostproc + " stats " + r.string() + ":/time -o " + at("link.h5")), at("link.h5"), r, before);
+  expect_refused(run(kPostproc + " stats " + r.string() + ":/time -o " + at("link.h5")), at("link.h5"), r,
+                 before);
 }
 
 TEST_F(files, BearingMapRefusesToOverwriteItsBearingFileOrItsOwnMap) {
   const std::string before = read_text(dir_ / "bearing.toml");
   const std::string csv = (dir_ / "." / "bearing.toml").string();
-  expect_refused(run(kSolve + " bearing-map " + at("bearing.toml") + " -o " + at("map.h5") + " --csv " + csv), csv,
-                 dir_ / "bearing.toml", before);
+  expect_refused(run(kSolve + " bearing-map " + at("bearing.toml") + " -o " + at("map.h5") + " --csv " + csv),
+                 csv, dir_ / "bearing.toml", before);
   EXPECT_FALSE(fs::exists(dir_ / "map.h5"));
-  const CliRun same = run(kSolve + " bearing-map " + at("bearing.toml") + " -o " + at("map.h5") + " --csv " +
-                          at("map.h5"));
+  const CliRun same =
+      run(kSolve + " bearing-map " + at("bearing.toml") + " -o " + at("map.h5") + " --csv " + at("map.h5"));
   EXPECT_EQ(same.exit_code, 1) << same.output;
   EXPECT_TRUE(contains(same.output, "are the same file")) << same.output;
 }
@@ -184,17 +186,18 @@ TEST_F(files, UnwritableOutputsAreRefusedBeforeTheWorkAndLeaveNothing) {
   EXPECT_TRUE(contains(c.output, "cannot write the output")) << c.output;
   EXPECT_FALSE(contains(c.output, "reduction")) << "condense started the work: " << c.output;
 
-  const CliRun m = run(kSolve + " bearing-map " + at("bearing.toml") + " -o " + at("map.h5") + " --csv " + nowhere +
-                       "/map.csv");
+  const CliRun m = run(kSolve + " bearing-map " + at("bearing.toml") + " -o " + at("map.h5") + " --csv " +
+                       nowhere + "/map.csv");
   EXPECT_EQ(m.exit_code, 1) << m.output;
   EXPECT_FALSE(fs::exists(dir_ / "map.h5")) << "the map was written although its CSV cannot be";
 
   const fs::path r = results();
-  const CliRun p = run(kPostproc + " stats " + r.string() + ":/time -o " + at("stats.h5") + " --plot " + nowhere);
+  const CliRun p =
+      run(kPostproc + " stats " + r.string() + ":/time -o " + at("stats.h5") + " --plot " + nowhere);
   EXPECT_EQ(p.exit_code, 1) << p.output;
   EXPECT_FALSE(fs::exists(dir_ / "stats.h5")) << "the output was written although its plots cannot be";
-  const CliRun q = run(kPostproc + " spectrum " + r.string() + ":/energy/kinetic -o " + at("s.h5") + " --csv " +
-                       nowhere + " --resolution 100");
+  const CliRun q = run(kPostproc + " spectrum " + r.string() + ":/energy/kinetic -o " + at("s.h5") +
+                       " --csv " + nowhere + " --resolution 100");
   EXPECT_EQ(q.exit_code, 1) << q.output;
   EXPECT_FALSE(fs::exists(dir_ / "s.h5"));
   for (const auto& e : fs::directory_iterator(dir_))
@@ -240,8 +243,8 @@ TEST_F(files, EveryToolFailsCleanlyOnAFullDisk) {
     fs::remove(full_ / "map.csv");
 
     const std::string p = (full_ / "p.h5").string();
-    const CliRun post = run(kPostproc + " spectrum " + r.string() + ":/markers/piston.pin/acceleration[1] -o " + p +
-                            " --resolution 100 -q");
+    const CliRun post = run(kPostproc + " spectrum " + r.string() +
+                            ":/markers/piston.pin/acceleration[1] -o " + p + " --resolution 100 -q");
     if (room < 20) {
       expect_disk_full(post, p);
       EXPECT_EQ(left_on_disk(), "");
@@ -250,8 +253,8 @@ TEST_F(files, EveryToolFailsCleanlyOnAFullDisk) {
     }
     fs::remove(p);
 
-    // solve: the results file is made (layout), then grows at each checkpoint; a failure at either is an error
-    // naming the file. Samples written before a failure during the run are kept (no temporary).
+    // solve: the results file is made (layout), then grows at each checkpoint; a failure at either is an
+    // error naming the file. Samples written before a failure during the run are kept (no temporary).
     const std::string s = (full_ / "r.h5").string();
     expect_disk_full(run(kSolve + " " + at("scene.toml") + " -o " + s + " -q"), s);
     EXPECT_FALSE(contains(left_on_disk(), ".tmp-")) << left_on_disk();
