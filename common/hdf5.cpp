@@ -145,15 +145,100 @@ std::vector<std::string> path_prefixes(std::string_view path) {
   return prefixes;
 }
 
+std::uint64_t little_endian(const unsigned char* p, int bytes);
+std::string file_name_of(hid_t object);
+bool read_only_with_default_sizes(hid_t object);
+
+// A group's link storage, checked before HDF5 looks a name up in it. A group of the 1.8 format has a
+// "link info" message in its object header; when a flipped byte makes its fractal-heap address look
+// defined, HDF5 1.10 opens a B-tree at the (undefined or garbage) name-index address and crashes in its
+// metadata accumulator. So, for files opened read-only (on disk as HDF5 sees them), the header is read
+// beside HDF5 (version-1 object headers, which carry no checksum; others are left to HDF5's checksums)
+// and dense link storage must point at a B-tree header ("BTHD") and a fractal heap ("FRHP").
+void check_group_links(hid_t group) {
+  if (H5Iget_type(group) != H5I_GROUP || !read_only_with_default_sizes(group)) return;
+  H5O_info_t info;
+  if (H5Oget_info2(group, &info, H5O_INFO_BASIC) < 0) return;
+  const std::string file_name = file_name_of(group);
+  // Checked once per file contents (path, size, time) and header address.
+  std::error_code error;
+  const std::string key =
+      file_name + "|" + std::to_string(std::filesystem::file_size(file_name, error)) + "|" +
+      std::to_string(std::filesystem::last_write_time(file_name, error).time_since_epoch().count()) + "|" +
+      std::to_string(info.addr);
+  static std::mutex mutex;
+  static std::map<std::string, std::string> checked;  // "" if sound
+  const std::lock_guard<std::mutex> lock(mutex);
+  const auto known = checked.find(key);
+  std::string fault;
+  if (known != checked.end()) {
+    fault = known->second;
+  } else {
+    std::ifstream in(file_name, std::ios::binary);
+    auto read = [&in](std::uint64_t at, std::size_t n) {
+      std::vector<unsigned char> bytes(n);
+      in.clear();
+      in.seekg(static_cast<std::streamoff>(at));
+      if (!in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(n))) bytes.clear();
+      return bytes;
+    };
+    const std::vector<unsigned char> prefix = read(info.addr, 16);
+    // Message blocks to walk: the first after the 16-byte prefix, then any continuation blocks.
+    std::vector<std::pair<std::uint64_t, std::uint64_t>> blocks;
+    if (prefix.size() == 16 && prefix[0] == 1)
+      blocks.emplace_back(info.addr + 16, little_endian(&prefix[8], 4));
+    for (std::size_t b = 0; b < blocks.size() && b < 64 && fault.empty(); ++b) {
+      if (blocks[b].second > (1u << 20)) break;  // not a header HDF5 wrote; let HDF5 judge it
+      const std::vector<unsigned char> block =
+          read(blocks[b].first, static_cast<std::size_t>(blocks[b].second));
+      for (std::size_t at = 0; at + 8 <= block.size();) {
+        const auto type = little_endian(&block[at], 2);
+        const auto size = static_cast<std::size_t>(little_endian(&block[at + 2], 2));
+        if (at + 8 + size > block.size()) break;
+        const unsigned char* data = &block[at + 8];
+        if (type == 0x10 && size >= 16)
+          blocks.emplace_back(little_endian(data, 8), little_endian(data + 8, 8));
+        if (type == 0x02 && size >= 18) {  // link info: version, flags, [max index], heap, name B-tree
+          const std::size_t skip = (data[1] & 1) ? 8 : 0;
+          if (2 + skip + 16 <= size) {
+            const std::uint64_t heap = little_endian(data + 2 + skip, 8);
+            const std::uint64_t names = little_endian(data + 2 + skip + 8, 8);
+            const std::uint64_t undefined = ~std::uint64_t{0};
+            if (heap != undefined) {
+              const std::vector<unsigned char> h = read(heap, 4), n = read(names, 4);
+              if (names == undefined || h.size() != 4 || n.size() != 4 ||
+                  std::memcmp(h.data(), "FRHP", 4) != 0 || std::memcmp(n.data(), "BTHD", 4) != 0) {
+                fault = "corrupt group (its link storage points at no B-tree or heap)";
+              }
+            }
+          }
+        }
+        at += 8 + size;
+      }
+    }
+    checked[key] = fault;
+  }
+  if (!fault.empty()) throw Error(file_name + ": " + fault);
+}
+
+// The group at `path` (opened, checked by check_group_links), or an invalid handle if it is not a group.
+Handle open_if_group(hid_t loc, const std::string& path) {
+  Handle object(H5Oopen(loc, path.c_str(), H5P_DEFAULT));
+  if (!object.valid() || H5Iget_type(object.get()) != H5I_GROUP) return Handle();
+  check_group_links(object.get());
+  return object;
+}
+
 bool is_group(hid_t loc, const std::string& path) {
-  const Handle object(H5Oopen(loc, path.c_str(), H5P_DEFAULT));
-  return object.valid() && H5Iget_type(object.get()) == H5I_GROUP;
+  return open_if_group(loc, path).valid();
 }
 
 // True if every component of `path` exists and all but the last are groups. H5Lexists itself fails
-// (rather than returning false) when an intermediate component is missing, hence the walk.
+// (rather than returning false) when an intermediate component is missing, hence the walk. Each group is
+// checked before a name is looked up in it.
 bool link_exists(hid_t loc, std::string_view path) {
   const std::vector<std::string> prefixes = path_prefixes(path);
+  if (!prefixes.empty()) check_group_links(loc);
   for (size_t i = 0; i < prefixes.size(); ++i) {
     if (H5Lexists(loc, prefixes[i].c_str(), H5P_DEFAULT) <= 0) return false;
     if (i + 1 < prefixes.size() && !is_group(loc, prefixes[i])) return false;
@@ -509,9 +594,12 @@ std::string check_collection(const std::vector<unsigned char>& bytes, HeapCollec
   return "";
 }
 
-bool default_sizes(hid_t object) {
+// Files opened read-only, with HDF5's default 8-byte addresses and lengths and no user block: the ones whose
+// bytes on disk are what HDF5 reads (a file being written has metadata in HDF5's cache, not yet on disk).
+bool read_only_with_default_sizes(hid_t object) {
   const Handle file(H5Iget_file_id(object));
-  if (!file.valid()) return false;
+  unsigned intent = 0;
+  if (!file.valid() || H5Fget_intent(file.get(), &intent) < 0 || intent != H5F_ACC_RDONLY) return false;
   const Handle fcpl(H5Fget_create_plist(file.get()));
   size_t address_size = 0, length_size = 0;
   hsize_t userblock = 1;
@@ -592,7 +680,7 @@ const HeapCheck& heap_check(const std::string& file_name) {
 // Before HDF5 reads variable-length strings from `source`: the checks above; throws naming the file.
 void check_variable_length_strings(const Source& source, hsize_t count) {
   const hid_t object = source.object.get();
-  if (!default_sizes(object)) return;
+  if (!read_only_with_default_sizes(object)) return;
   const std::string file_name = file_name_of(object);
   if (file_name.empty()) return;
   const HeapCheck& check = heap_check(file_name);
