@@ -6,7 +6,10 @@
 
 #include <algorithm>
 #include <cstring>
+#include <fstream>
 #include <functional>
+#include <map>
+#include <mutex>
 #include <numeric>
 #include <system_error>
 #include <utility>
@@ -23,6 +26,13 @@ constexpr hsize_t kAutoChunkThreshold = 4096;
 constexpr hsize_t kChunkTargetValues = 16384;
 constexpr int kDefaultDeflateLevel = 4;
 
+// No HDF5 exit handler. HDF5 1.10 keeps the id of an object whose close failed (a full disk: H5Fclose,
+// H5Dclose cannot write what they hold) in its tables, pointing at memory it has already freed; its exit
+// handler closes every id left and crashes on those. Every file is closed by its h5::File before exit,
+// so the handler has nothing else to do. H5dont_atexit only acts before the library initializes, hence a
+// static initializer (this file is linked into every tool that uses HDF5).
+[[maybe_unused]] const bool kNoHdf5ExitHandler = H5dont_atexit() >= 0;
+
 // ---------------------------------------------------------------------------------------------
 // Errors
 
@@ -36,6 +46,15 @@ std::string hdf5_detail() {
   };
   H5Ewalk2(H5E_DEFAULT, H5E_WALK_UPWARD, take_first, &detail);
   H5Eclear2(H5E_DEFAULT);
+  // A failed read or write of the file driver is a multi-line record (time, descriptor, buffer address,
+  // offsets): keep its first words and the system's message, e.g. "file write failed: No space left on
+  // device".
+  const size_t system = detail.find("error message = '");
+  if (system != std::string::npos) {
+    const size_t begin = system + std::strlen("error message = '");
+    const size_t end = detail.find('\'', begin);
+    detail = detail.substr(0, detail.find(':')) + ": " + detail.substr(begin, end - begin);
+  }
   return detail.empty() ? std::string() : " (HDF5: " + detail + ")";
 }
 
@@ -126,15 +145,100 @@ std::vector<std::string> path_prefixes(std::string_view path) {
   return prefixes;
 }
 
+std::uint64_t little_endian(const unsigned char* p, int bytes);
+std::string file_name_of(hid_t object);
+bool read_only_with_default_sizes(hid_t object);
+
+// A group's link storage, checked before HDF5 looks a name up in it. A group of the 1.8 format has a
+// "link info" message in its object header; when a flipped byte makes its fractal-heap address look
+// defined, HDF5 1.10 opens a B-tree at the (undefined or garbage) name-index address and crashes in its
+// metadata accumulator. So, for files opened read-only (on disk as HDF5 sees them), the header is read
+// beside HDF5 (version-1 object headers, which carry no checksum; others are left to HDF5's checksums)
+// and dense link storage must point at a B-tree header ("BTHD") and a fractal heap ("FRHP").
+void check_group_links(hid_t group) {
+  if (H5Iget_type(group) != H5I_GROUP || !read_only_with_default_sizes(group)) return;
+  H5O_info_t info;
+  if (H5Oget_info2(group, &info, H5O_INFO_BASIC) < 0) return;
+  const std::string file_name = file_name_of(group);
+  // Checked once per file contents (path, size, time) and header address.
+  std::error_code error;
+  const std::string key =
+      file_name + "|" + std::to_string(std::filesystem::file_size(file_name, error)) + "|" +
+      std::to_string(std::filesystem::last_write_time(file_name, error).time_since_epoch().count()) + "|" +
+      std::to_string(info.addr);
+  static std::mutex mutex;
+  static std::map<std::string, std::string> checked;  // "" if sound
+  const std::lock_guard<std::mutex> lock(mutex);
+  const auto known = checked.find(key);
+  std::string fault;
+  if (known != checked.end()) {
+    fault = known->second;
+  } else {
+    std::ifstream in(file_name, std::ios::binary);
+    auto read = [&in](std::uint64_t at, std::size_t n) {
+      std::vector<unsigned char> bytes(n);
+      in.clear();
+      in.seekg(static_cast<std::streamoff>(at));
+      if (!in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(n))) bytes.clear();
+      return bytes;
+    };
+    const std::vector<unsigned char> prefix = read(info.addr, 16);
+    // Message blocks to walk: the first after the 16-byte prefix, then any continuation blocks.
+    std::vector<std::pair<std::uint64_t, std::uint64_t>> blocks;
+    if (prefix.size() == 16 && prefix[0] == 1)
+      blocks.emplace_back(info.addr + 16, little_endian(&prefix[8], 4));
+    for (std::size_t b = 0; b < blocks.size() && b < 64 && fault.empty(); ++b) {
+      if (blocks[b].second > (1u << 20)) break;  // not a header HDF5 wrote; let HDF5 judge it
+      const std::vector<unsigned char> block =
+          read(blocks[b].first, static_cast<std::size_t>(blocks[b].second));
+      for (std::size_t at = 0; at + 8 <= block.size();) {
+        const auto type = little_endian(&block[at], 2);
+        const auto size = static_cast<std::size_t>(little_endian(&block[at + 2], 2));
+        if (at + 8 + size > block.size()) break;
+        const unsigned char* data = &block[at + 8];
+        if (type == 0x10 && size >= 16)
+          blocks.emplace_back(little_endian(data, 8), little_endian(data + 8, 8));
+        if (type == 0x02 && size >= 18) {  // link info: version, flags, [max index], heap, name B-tree
+          const std::size_t skip = (data[1] & 1) ? 8 : 0;
+          if (2 + skip + 16 <= size) {
+            const std::uint64_t heap = little_endian(data + 2 + skip, 8);
+            const std::uint64_t names = little_endian(data + 2 + skip + 8, 8);
+            const std::uint64_t undefined = ~std::uint64_t{0};
+            if (heap != undefined) {
+              const std::vector<unsigned char> h = read(heap, 4), n = read(names, 4);
+              if (names == undefined || h.size() != 4 || n.size() != 4 ||
+                  std::memcmp(h.data(), "FRHP", 4) != 0 || std::memcmp(n.data(), "BTHD", 4) != 0) {
+                fault = "corrupt group (its link storage points at no B-tree or heap)";
+              }
+            }
+          }
+        }
+        at += 8 + size;
+      }
+    }
+    checked[key] = fault;
+  }
+  if (!fault.empty()) throw Error(file_name + ": " + fault);
+}
+
+// The group at `path` (opened, checked by check_group_links), or an invalid handle if it is not a group.
+Handle open_if_group(hid_t loc, const std::string& path) {
+  Handle object(H5Oopen(loc, path.c_str(), H5P_DEFAULT));
+  if (!object.valid() || H5Iget_type(object.get()) != H5I_GROUP) return Handle();
+  check_group_links(object.get());
+  return object;
+}
+
 bool is_group(hid_t loc, const std::string& path) {
-  const Handle object(H5Oopen(loc, path.c_str(), H5P_DEFAULT));
-  return object.valid() && H5Iget_type(object.get()) == H5I_GROUP;
+  return open_if_group(loc, path).valid();
 }
 
 // True if every component of `path` exists and all but the last are groups. H5Lexists itself fails
-// (rather than returning false) when an intermediate component is missing, hence the walk.
+// (rather than returning false) when an intermediate component is missing, hence the walk. Each group is
+// checked before a name is looked up in it.
 bool link_exists(hid_t loc, std::string_view path) {
   const std::vector<std::string> prefixes = path_prefixes(path);
+  if (!prefixes.empty()) check_group_links(loc);
   for (size_t i = 0; i < prefixes.size(); ++i) {
     if (H5Lexists(loc, prefixes[i].c_str(), H5P_DEFAULT) <= 0) return false;
     if (i + 1 < prefixes.size() && !is_group(loc, prefixes[i])) return false;
@@ -255,13 +359,16 @@ void create_dataset(hid_t loc, std::string_view name, const std::string& where, 
   const Handle space = make_dataspace(dims, where);
   const Handle dcpl = dataset_creation_plist(chunk, deflate_level, where);
   const Handle lcpl = intermediate_groups_lcpl();
-  const Handle dataset(check_id(
+  Handle dataset(check_id(
       H5Dcreate2(loc, std::string(name).c_str(), file_type, space.get(), lcpl.get(), dcpl.get(), H5P_DEFAULT),
       where, "cannot create dataset"));
   // HDF5 rejects a null buffer even for zero values, and an empty std::vector may have one.
   if (element_count(dims) == 0) return;
   check_status(H5Dwrite(dataset.get(), mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), where,
                "cannot write dataset");
+  // The data may still be in HDF5's chunk cache or sieve buffer: the close writes it, and on a full disk
+  // fails there. A silent close would lose the data and commit a file without it.
+  check_status(H5Dclose(dataset.release()), where, "cannot write dataset");
 }
 
 void create_double_dataset(hid_t loc, std::string_view name, const std::string& where, const double* data,
@@ -406,8 +513,22 @@ void require_numeric(const Source& source, const Handle& type, bool integer_only
   }
 }
 
+// A corrupted shape can claim more values than the file could hold even compressed (deflate's ratio is at
+// most about 1032:1): refuse it before allocating, rather than failing in the allocator.
+void require_plausible_size(const Source& source, hsize_t count, hsize_t value_size) {
+  const Handle file(H5Iget_file_id(source.object.get()));
+  hsize_t file_size = 0;
+  if (!file.valid() || H5Fget_filesize(file.get(), &file_size) < 0) return;
+  const hsize_t limit = (file_size + (hsize_t{1} << 20)) * 1100 / std::max<hsize_t>(value_size, 1);
+  if (count > limit) {
+    fail(source.where, "corrupt: its shape holds " + std::to_string(count) + " values, more than the file (" +
+                           std::to_string(file_size) + " bytes) can hold");
+  }
+}
+
 std::vector<double> read_doubles(const Source& source, hsize_t count) {
   require_numeric(source, type_of(source), false);
+  require_plausible_size(source, count, 8);
   std::vector<double> values(count);
   if (count > 0) read_raw(source, H5T_NATIVE_DOUBLE, values.data());
   return values;
@@ -415,9 +536,181 @@ std::vector<double> read_doubles(const Source& source, hsize_t count) {
 
 std::vector<std::int64_t> read_int64s(const Source& source, hsize_t count) {
   require_numeric(source, type_of(source), true);
+  require_plausible_size(source, count, 8);
   std::vector<std::int64_t> values(count);
   if (count > 0) read_raw(source, H5T_NATIVE_INT64, values.data());
   return values;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Variable-length strings: HDF5 1.10 reads them from "global heap collections" and trusts what it finds
+// there: a corrupted collection (an object size running past its end), or a corrupted reference (an
+// object index the collection does not have, a length shorter than the object), makes it read or copy
+// out of bounds and crash. So before the first variable-length read of a file, every collection in it
+// (found by its "GCOL" signature) is checked the way HDF5 will walk it; and before reading a
+// variable-length dataset, each of its references (raw bytes, read beside HDF5) is checked against the
+// collection it points into. Attributes' references cannot be reached through the API (they sit inside
+// object headers): for them the collection check is what there is (docs/cli.md, "corrupted inputs").
+// The checks assume HDF5's default 8-byte addresses and lengths and no user block; other files are read
+// unchecked.
+
+struct HeapCollection {
+  std::uint64_t size = 0;
+  std::map<std::uint16_t, std::uint64_t> objects;  // index -> object size
+};
+
+struct HeapCheck {
+  std::string error;                                    // the first fault found, "" if none
+  std::map<std::uint64_t, HeapCollection> collections;  // by file address
+};
+
+std::uint64_t little_endian(const unsigned char* p, int bytes) {
+  std::uint64_t value = 0;
+  for (int i = bytes - 1; i >= 0; --i) value = (value << 8) | p[i];
+  return value;
+}
+
+// Walk one collection as HDF5's loader does (header: "GCOL", version 1, 3 reserved bytes, 8-byte size;
+// objects: 2-byte index, 2-byte reference count, 4 reserved, 8-byte size, data padded to 8 bytes;
+// index 0 is the free space). "" if sound, else what is wrong.
+std::string check_collection(const std::vector<unsigned char>& bytes, HeapCollection& collection) {
+  if (bytes[4] != 1) return "unknown version " + std::to_string(bytes[4]);
+  collection.size = little_endian(bytes.data() + 8, 8);
+  if (collection.size < 4096 || collection.size != bytes.size()) return "impossible size";
+  std::size_t at = 16;
+  while (at < bytes.size()) {
+    if (at + 16 > bytes.size()) break;  // a tail too short for an object header is free space
+    const auto index = static_cast<std::uint16_t>(little_endian(bytes.data() + at, 2));
+    const std::uint64_t size = little_endian(bytes.data() + at + 8, 8);
+    const std::uint64_t need = index == 0 ? size : 16 + (size + 7) / 8 * 8;
+    if (size > bytes.size() || need == 0 || need > bytes.size() - at) {
+      return "object " + std::to_string(index) + " runs past the end of the collection";
+    }
+    if (index != 0 && !collection.objects.emplace(index, size).second) {
+      return "object " + std::to_string(index) + " appears twice";
+    }
+    at += static_cast<std::size_t>(need);
+  }
+  return "";
+}
+
+// Files opened read-only, with HDF5's default 8-byte addresses and lengths and no user block: the ones whose
+// bytes on disk are what HDF5 reads (a file being written has metadata in HDF5's cache, not yet on disk).
+bool read_only_with_default_sizes(hid_t object) {
+  const Handle file(H5Iget_file_id(object));
+  unsigned intent = 0;
+  if (!file.valid() || H5Fget_intent(file.get(), &intent) < 0 || intent != H5F_ACC_RDONLY) return false;
+  const Handle fcpl(H5Fget_create_plist(file.get()));
+  size_t address_size = 0, length_size = 0;
+  hsize_t userblock = 1;
+  if (!fcpl.valid() || H5Pget_sizes(fcpl.get(), &address_size, &length_size) < 0 ||
+      H5Pget_userblock(fcpl.get(), &userblock) < 0) {
+    return false;
+  }
+  return address_size == 8 && length_size == 8 && userblock == 0;
+}
+
+std::string file_name_of(hid_t object) {
+  const ssize_t length = H5Fget_name(object, nullptr, 0);
+  if (length <= 0) return "";
+  std::string name(static_cast<size_t>(length) + 1, '\0');
+  H5Fget_name(object, name.data(), name.size());
+  name.resize(static_cast<size_t>(length));
+  return name;
+}
+
+// The check of every collection of a file, made once per file and contents (path, size, time).
+const HeapCheck& heap_check(const std::string& file_name) {
+  static std::mutex mutex;
+  static std::map<std::string, std::pair<std::string, HeapCheck>> checked;
+  std::error_code error;
+  const auto size = std::filesystem::file_size(file_name, error);
+  const auto time = std::filesystem::last_write_time(file_name, error);
+  const std::string stamp = std::to_string(size) + "@" + std::to_string(time.time_since_epoch().count());
+  const std::lock_guard<std::mutex> lock(mutex);
+  auto& [known_stamp, check] = checked[file_name];
+  if (known_stamp == stamp) return check;
+  known_stamp = stamp;
+  check = HeapCheck();
+  std::ifstream in(file_name, std::ios::binary);
+  constexpr std::size_t kBlock = 1 << 20;
+  std::vector<char> block(kBlock + 3);
+  std::size_t carried = 0;  // bytes kept from the previous block (a signature split across blocks)
+  std::uint64_t block_start = 0;
+  std::vector<std::uint64_t> found;
+  while (in) {
+    in.read(block.data() + carried, static_cast<std::streamsize>(kBlock));
+    const std::size_t valid = carried + static_cast<std::size_t>(in.gcount());
+    if (valid < 4) break;
+    for (std::size_t i = 0; i + 4 <= valid; ++i) {
+      const void* hit = std::memchr(block.data() + i, 'G', valid - 3 - i);
+      if (hit == nullptr) break;
+      i = static_cast<std::size_t>(static_cast<const char*>(hit) - block.data());
+      if (std::memcmp(block.data() + i, "GCOL", 4) == 0) found.push_back(block_start + i);
+    }
+    std::memmove(block.data(), block.data() + valid - 3, 3);
+    block_start += valid - 3;
+    carried = 3;
+  }
+  for (const std::uint64_t offset : found) {
+    std::ifstream file(file_name, std::ios::binary);
+    unsigned char header[16] = {};
+    file.seekg(static_cast<std::streamoff>(offset));
+    if (!file.read(reinterpret_cast<char*>(header), 16)) continue;
+    const std::uint64_t collection_size = little_endian(header + 8, 8);
+    HeapCollection collection;
+    std::string fault;
+    if (collection_size < 16 || collection_size > size - offset) {
+      fault = "impossible size";
+    } else {
+      std::vector<unsigned char> bytes(static_cast<std::size_t>(collection_size));
+      file.seekg(static_cast<std::streamoff>(offset));
+      file.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+      fault = file ? check_collection(bytes, collection) : "cannot read it";
+    }
+    if (!fault.empty() && check.error.empty()) {
+      check.error = "corrupt variable-length string storage (global heap collection at byte " +
+                    std::to_string(offset) + ": " + fault + ")";
+    }
+    check.collections.emplace(offset, std::move(collection));
+  }
+  return check;
+}
+
+// Before HDF5 reads variable-length strings from `source`: the checks above; throws naming the file.
+void check_variable_length_strings(const Source& source, hsize_t count) {
+  const hid_t object = source.object.get();
+  if (!read_only_with_default_sizes(object)) return;
+  const std::string file_name = file_name_of(object);
+  if (file_name.empty()) return;
+  const HeapCheck& check = heap_check(file_name);
+  if (!check.error.empty()) fail(source.where, check.error);
+  if (source.is_attribute()) return;
+  const haddr_t offset = H5Dget_offset(object);
+  if (offset == HADDR_UNDEF) return;  // not contiguous (chunked or compact): references not reachable
+  if (H5Dget_storage_size(object) != 16 * count)
+    fail(source.where, "corrupt: storage size does not match its shape");
+  std::vector<unsigned char> references(static_cast<std::size_t>(16 * count));
+  std::ifstream in(file_name, std::ios::binary);
+  in.seekg(static_cast<std::streamoff>(offset));
+  if (!in.read(reinterpret_cast<char*>(references.data()), static_cast<std::streamsize>(references.size()))) {
+    fail(source.where, "corrupt: its data lies beyond the end of the file");
+  }
+  for (hsize_t i = 0; i < count; ++i) {
+    const unsigned char* reference = references.data() + 16 * i;
+    const std::uint64_t length = little_endian(reference, 4);
+    const std::uint64_t address = little_endian(reference + 4, 8);
+    const auto index = static_cast<std::uint16_t>(little_endian(reference + 12, 4));
+    if (length == 0 && address == 0) continue;  // an empty string: nothing stored
+    const auto collection = check.collections.find(address);
+    const bool ok = collection != check.collections.end() && little_endian(reference + 12, 4) <= 0xffff &&
+                    collection->second.objects.count(index) > 0 &&
+                    collection->second.objects.at(index) == length;
+    if (!ok) {
+      fail(source.where,
+           "corrupt: string " + std::to_string(i) + " refers to no stored string of its length");
+    }
+  }
 }
 
 // Strings: variable-length (ours, and h5py's str) or fixed-length (h5py's numpy bytes). HDF5 cannot
@@ -427,10 +720,13 @@ std::vector<std::string> read_strings_from(const Source& source, hsize_t count) 
   if (H5Tget_class(type.get()) != H5T_STRING) {
     fail(source.where, "expected string data, found " + describe_type(type.get()));
   }
+  const bool variable = H5Tis_variable_str(type.get()) > 0;
+  require_plausible_size(source, count, variable ? 16 : std::max<size_t>(H5Tget_size(type.get()), 1));
   std::vector<std::string> values;
   values.reserve(count);
   if (count == 0) return values;
-  if (H5Tis_variable_str(type.get()) > 0) {
+  if (variable) {
+    check_variable_length_strings(source, count);
     // HDF5 allocates each string; we copy and free them.
     const Handle mem_type = vlen_string_type();
     std::vector<char*> pointers(count, nullptr);
@@ -561,7 +857,7 @@ void AppendableDataset::truncate(hsize_t rows) {
 
 void AppendableDataset::flush() {
   if (!dataset_.valid()) throw Error("flush() on an AppendableDataset not made by Group::create_appendable");
-  check_status(H5Dflush(dataset_.get()), path_, "cannot flush");
+  check_status(H5Dflush(dataset_.get()), path_, "cannot write the appended rows to disk");
 }
 
 // =============================================================================================
@@ -1010,14 +1306,20 @@ const Group& File::root() const {
   return root_;
 }
 
+void File::flush() {
+  if (!file_.valid()) throw Error(path_.string() + ": the file is closed (committed or moved from)");
+  check_status(H5Fflush(file_.get(), H5F_SCOPE_GLOBAL), path_.string(), "cannot write to disk");
+}
+
 void File::commit() {
   const std::string name = path_.string();
   if (temporary_.empty()) fail(name, "commit() of a file not made by File::create, or committed already");
   // Close explicitly to see errors (a full disk shows up here); the strong close degree closes every
   // object still open in the file first. The Handle then finds its id invalid and does nothing.
   root_ = Group();
-  check_status(H5Fclose(file_.get()), name, "cannot write '" + temporary_.string() + "'");
-  file_ = Handle();
+  // The id is released before the close: after a failed H5Fclose it must never be closed again.
+  check_status(H5Fclose(file_.release()), name,
+               "cannot write the file (its temporary '" + temporary_.string() + "' is removed)");
   std::error_code error;
   std::filesystem::rename(temporary_, path_, error);
   if (error) fail(name, "cannot rename '" + temporary_.string() + "' onto it: " + error.message());

@@ -36,6 +36,13 @@ class Handle {
 
   hid_t get() const { return id_; }
   bool valid() const { return id_ >= 0; }
+  /// Give up the id without closing it. For a file about to be closed by hand: HDF5 1.10 keeps the id of a
+  /// file whose H5Fclose failed (a full disk) pointing at a half-freed file, and a second close crashes.
+  hid_t release() noexcept {
+    const hid_t id = id_;
+    id_ = H5I_INVALID_HID;
+    return id;
+  }
 
  private:
   hid_t id_ = H5I_INVALID_HID;
@@ -183,6 +190,8 @@ class File {
 
   Group root();
   const Group& root() const;
+  /// Write everything HDF5 still holds in memory to disk (a checkpoint); error naming the file if it cannot.
+  void flush();
   /// Flush and close, then rename the temporary onto the final path. Only for created files.
   void commit();
   const std::filesystem::path& path() const { return path_; }

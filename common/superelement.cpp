@@ -1,6 +1,9 @@
 // The superelement file's writer and reader (common/superelement.hpp); the layout is docs/hdf5-format.md.
 #include "common/superelement.hpp"
 
+#include <Eigen/Eigenvalues>
+#include <cmath>
+
 #include "common/error.hpp"
 #include "common/hdf5.hpp"
 
@@ -51,6 +54,96 @@ PointSet read_points(const h5::Group& g, int n, const std::string& where) {
     p.shapes.push_back(s);
   }
   return p;
+}
+
+// Numbers a corrupted (or hand-edited) file may hold that no shape check sees: what solve would turn into
+// NaN states or a singular mass matrix many steps later. Errors name the file and the dataset.
+void require_finite(const Eigen::Ref<const Eigen::MatrixXd>& values, const std::string& where) {
+  for (Eigen::Index c = 0; c < values.cols(); ++c)
+    for (Eigen::Index r = 0; r < values.rows(); ++r)
+      if (!std::isfinite(values(r, c))) {
+        throw Error(where + ": entry (" + std::to_string(r) + ", " + std::to_string(c) + ") is " +
+                    std::to_string(values(r, c)) + "; expected finite numbers (a corrupted file?)");
+      }
+}
+
+void require_ascending_frequencies(const Eigen::VectorXd& f, const std::string& where) {
+  require_finite(f, where);
+  for (Eigen::Index i = 0; i < f.size(); ++i) {
+    if (f[i] < 0.0 || (i > 0 && f[i] < f[i - 1])) {
+      throw Error(where + ": frequency " + std::to_string(i) + " is " + std::to_string(f[i]) +
+                  " Hz; expected non-negative frequencies in ascending order (a corrupted file?)");
+    }
+  }
+}
+
+void validate(const SuperelementFile& se, const std::string& file) {
+  const int n = se.size();
+  require_ascending_frequencies(se.frequency_hz, file + ":/modes/frequency_hz");
+  require_ascending_frequencies(se.fixed_interface_hz, file + ":/modes/fixed_interface_hz");
+  if (static_cast<int>(se.coordinates.size()) != n) {
+    throw Error(file + ":/reduced/coordinates: " + std::to_string(se.coordinates.size()) + " names for " +
+                std::to_string(n) + " coordinates");
+  }
+  require_finite(se.mass, file + ":/reduced/mass");
+  require_finite(se.stiffness, file + ":/reduced/stiffness");
+  require_finite(se.damping, file + ":/reduced/damping");
+  // The mass matrix: symmetric and positive definite up to round-off (a product basis^T M basis).
+  const double scale = se.mass.cwiseAbs().maxCoeff();
+  if (n > 0 && !(scale > 0.0))
+    throw Error(file + ":/reduced/mass: all zero; expected a positive definite matrix");
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < i; ++j)
+      if (std::abs(se.mass(i, j) - se.mass(j, i)) > 1e-8 * scale) {
+        throw Error(file + ":/reduced/mass: not symmetric (entries (" + std::to_string(i) + ", " +
+                    std::to_string(j) + ") and (" + std::to_string(j) + ", " + std::to_string(i) +
+                    ") differ); a corrupted file?");
+      }
+  if (n > 0) {
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(se.mass, Eigen::EigenvaluesOnly);
+    if (eigen.info() != Eigen::Success || !(eigen.eigenvalues()[0] > 1e-12 * scale)) {
+      throw Error(file + ":/reduced/mass: not positive definite (smallest eigenvalue " +
+                  std::to_string(eigen.eigenvalues()[0]) + "); a corrupted file?");
+    }
+  }
+  for (const auto* points : {&se.interfaces, &se.observers}) {
+    const std::string group = points == &se.interfaces ? ":/interface" : ":/observe";
+    require_finite(points->position, file + group + "/position");
+    for (const Eigen::MatrixXd& shape : points->shapes) require_finite(shape, file + group + "/shape");
+  }
+  require_finite(se.observers.normals, file + ":/observe/normal");
+  if (se.surface) {
+    require_finite(se.surface->position, file + ":/surface/position");
+    require_finite(se.surface->normal, file + ":/surface/normal");
+    require_finite(se.surface->area, file + ":/surface/area");
+    require_finite(Eigen::Map<const Eigen::VectorXd>(se.surface->shape.data(),
+                                                     static_cast<Eigen::Index>(se.surface->shape.size())),
+                   file + ":/surface/shape");
+    const auto nodes = static_cast<std::int64_t>(se.surface->labels.size());
+    for (const auto& triangle : se.surface->triangles)
+      for (const int node : triangle)
+        if (node < 0 || node >= nodes) {
+          throw Error(file + ":/surface/triangles: node index " + std::to_string(node) + " outside 0.." +
+                      std::to_string(nodes - 1));
+        }
+  }
+  if (!(se.inertia.mass > 0.0) || !std::isfinite(se.inertia.mass)) {
+    throw Error(file + ":/invariants/mass: " + std::to_string(se.inertia.mass) +
+                " kg; expected a positive mass");
+  }
+  require_finite(se.inertia.center_of_mass, file + ":/invariants/center_of_mass");
+  require_finite(se.inertia.inertia, file + ":/invariants/inertia");
+  require_finite(se.inertia.inertia_origin, file + ":/invariants/inertia_origin");
+  require_finite(se.inertia.second_moment, file + ":/invariants/second_moment");
+  require_finite(se.invariants.translational, file + ":/invariants/translational_coupling");
+  require_finite(se.invariants.rotational, file + ":/invariants/rotational_coupling");
+  for (const Eigen::VectorXd& v : se.invariants.position)
+    require_finite(v, file + ":/invariants/position_coupling");
+  for (const Eigen::MatrixXd& m : se.invariants.quadratic) require_finite(m, file + ":/invariants/quadratic");
+  if (se.rigid_body_modes_removed < 0 || se.rigid_body_modes_contained < 0 ||
+      se.rigid_body_modes_contained > n) {
+    throw Error(file + ":/modes: rigid_body_modes_removed / _contained out of range (a corrupted file?)");
+  }
 }
 
 }  // namespace
@@ -264,6 +357,7 @@ SuperelementFile read_superelement(const std::filesystem::path& path) {
       for (int j = 0; j < n; ++j) s(i, j) = quadratic[(static_cast<std::size_t>(kl) * n + i) * n + j];
     se.invariants.quadratic.push_back(s);
   }
+  validate(se, where);
   return se;
 }
 

@@ -10,6 +10,7 @@
 #include "common/error.hpp"
 #include "common/interrupt.hpp"
 #include "common/log.hpp"
+#include "common/output_path.hpp"
 #include "common/progress.hpp"
 #include "common/provenance.hpp"
 #include "common/resources.hpp"
@@ -139,7 +140,16 @@ int main(int argc, char** argv) {
                              : Verbosity::kNormal);
   try {
     StageTimer timer;
+    // Before any work: no output may replace an input, and every output must be writable.
+    std::vector<std::filesystem::path> outputs{output_file};
+    if (keep_mesh) {
+      outputs.push_back(mesh_export_xdmf_path(output_file));
+      outputs.push_back(mesh_export_h5_path(output_file));
+    }
+    check_outputs_are_not_inputs(outputs, {component_file});
+    for (const auto& output : outputs) check_output_writable(output);
     Component component = read_component(component_file);
+    if (component.kind == "volume") check_outputs_are_not_inputs(outputs, {component.volume.mesh});
     CondenseOptions options;
     options.fmax_hz = fmax;
     options.modes = modes;

@@ -44,9 +44,11 @@ void write_int_matrix(h5::Group& group, const std::string& name,
                       const Eigen::Matrix<std::int64_t, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>& m) {
   const hsize_t dims[2] = {static_cast<hsize_t>(m.rows()), static_cast<hsize_t>(m.cols())};
   const h5::Handle space(H5Screate_simple(2, dims, nullptr));
-  const h5::Handle set(H5Dcreate2(group.id(), name.c_str(), H5T_STD_I64LE, space.get(), H5P_DEFAULT,
-                                  H5P_DEFAULT, H5P_DEFAULT));
-  if (!set.valid() || H5Dwrite(set.get(), H5T_NATIVE_INT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, m.data()) < 0) {
+  h5::Handle set(H5Dcreate2(group.id(), name.c_str(), H5T_STD_I64LE, space.get(), H5P_DEFAULT, H5P_DEFAULT,
+                            H5P_DEFAULT));
+  // The close writes what HDF5 still buffers (a full disk fails there): checked, not left to the Handle.
+  if (!set.valid() || H5Dwrite(set.get(), H5T_NATIVE_INT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, m.data()) < 0 ||
+      H5Dclose(set.release()) < 0) {
     throw Error("cannot write the dataset " + group.path() + "/" + name);
   }
 }

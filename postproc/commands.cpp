@@ -11,6 +11,7 @@
 
 #include "common/error.hpp"
 #include "common/hdf5.hpp"
+#include "common/output_path.hpp"
 #include "common/progress.hpp"
 #include "postproc/levels.hpp"
 #include "postproc/octave.hpp"
@@ -123,11 +124,12 @@ void write_reference(h5::Group& g, const std::string& dataset, const LevelRefere
   g.set_attribute("quantity", ref.quantity.empty() ? std::string("unknown") : ref.quantity, dataset);
 }
 
-/// CSV with a header row; columns of equal length.
-void write_csv(const std::filesystem::path& path, const std::vector<std::string>& header,
-               const std::vector<const Eigen::VectorXd*>& columns) {
-  std::ofstream out(path);
-  if (!out) throw Error(path.string() + ": cannot create the CSV file (does the directory exist?)");
+/// CSV with a header row; columns of equal length. Written to a temporary and closed; the command commits
+/// the CSV files after the HDF5 output, so that a failure leaves none of them.
+void write_csv(std::vector<TextOutput>& csvs, const std::filesystem::path& path,
+               const std::vector<std::string>& header, const std::vector<const Eigen::VectorXd*>& columns) {
+  TextOutput& csv = csvs.emplace_back(path);
+  std::ostream& out = csv.stream();
   out.precision(10);
   for (std::size_t c = 0; c < header.size(); ++c) out << (c ? "," : "") << header[c];
   out << "\n";
@@ -136,6 +138,33 @@ void write_csv(const std::filesystem::path& path, const std::vector<std::string>
     for (std::size_t c = 0; c < columns.size(); ++c) out << (c ? "," : "") << (*columns[c])[r];
     out << "\n";
   }
+  csv.close();
+}
+
+/// The HDF5 output, then the CSV files: called once everything is written.
+void commit_outputs(Output& out, std::vector<TextOutput>& csvs) {
+  out.file.commit();
+  for (TextOutput& csv : csvs) csv.commit();
+}
+
+/// Before any work: the outputs (HDF5 and the CSV files, `csv_prefix` + signal name, or `csv_names`) may not
+/// replace an input signal or angle file, and must be writable.
+void check_outputs(const CommonOptions& common, const std::vector<SignalSource>& sources,
+                   const AngleSource* angle, const std::string& csv_prefix,
+                   std::vector<std::string> csv_names = {}) {
+  std::vector<std::filesystem::path> inputs;
+  for (const std::string& address : common.signals) inputs.push_back(SignalSource::file_of(address));
+  if (angle && !angle->address.empty() && angle->address.front() != '/')
+    inputs.push_back(SignalSource::file_of(angle->address));
+  std::vector<std::filesystem::path> outputs{common.output};
+  if (common.csv_dir) {
+    if (csv_names.empty())
+      for (const SignalSource& s : sources) csv_names.push_back(csv_prefix + s.info().name + ".csv");
+    for (const std::string& name : csv_names) outputs.push_back(*common.csv_dir / name);
+  }
+  check_outputs_are_not_inputs(outputs, inputs);
+  check_output_writable(common.output);
+  if (common.csv_dir) check_output_directory(*common.csv_dir);
 }
 
 Eigen::VectorXd to_vector(const std::vector<double>& v) {
@@ -308,8 +337,10 @@ int samples_per_cycle_from(const AngleSource& angle, const SignalSource& signal,
 void run_spectrum(const SpectrumCommand& command, const Logger& log, int argc, const char* const* argv) {
   const CommonOptions& common = command.common;
   std::vector<SignalSource> sources = open_signals(common);
+  check_outputs(common, sources, nullptr, "spectrum_");
   for (SignalSource& s : sources) apply_window(s, common.window, nullptr, 0.0, common.block, log);
   std::future<Provenance> provenance = start_provenance(sources, argc, argv);
+  std::vector<TextOutput> csvs;
   std::vector<int> lengths;
   for (const SignalSource& s : sources) {
     try {
@@ -370,11 +401,11 @@ void run_spectrum(const SpectrumCommand& command, const Logger& log, int argc, c
         << s.resolution_hz << " Hz, " << to_string(s.window) << " window";
     log.info(msg.str());
     if (common.csv_dir)
-      write_csv(*common.csv_dir / ("spectrum_" + info.name + ".csv"),
+      write_csv(csvs, *common.csv_dir / ("spectrum_" + info.name + ".csv"),
                 {"frequency_hz", "amplitude_" + (s.unit.empty() ? std::string("1") : s.unit), "level_db"},
                 {&f, &values, &level});
   }
-  out.file.commit();
+  commit_outputs(out, csvs);
 }
 
 void run_octave(const OctaveCommand& command, const Logger& log, int argc, const char* const* argv) {
@@ -384,8 +415,10 @@ void run_octave(const OctaveCommand& command, const Logger& log, int argc, const
   if (command.weighting != "Z" && command.weighting != "A")
     throw Error("octave: weighting '" + command.weighting + "': expected Z (none) or A");
   std::vector<SignalSource> sources = open_signals(common);
+  check_outputs(common, sources, nullptr, "octave_");
   for (SignalSource& s : sources) apply_window(s, common.window, nullptr, 0.0, common.block, log);
   std::future<Provenance> provenance = start_provenance(sources, argc, argv);
+  std::vector<TextOutput> csvs;
   double fmax = command.fmax_hz;
   if (fmax <= 0.0) {
     // Default: up to 10 kHz, but only bands whose upper edge stays below every signal's Nyquist frequency.
@@ -494,16 +527,18 @@ void run_octave(const OctaveCommand& command, const Logger& log, int argc, const
         << " Hz, overall " << overall << " " << ref.label() << (command.weighting == "A" ? " (A)" : "");
     log.info(msg.str());
     if (common.csv_dir)
-      write_csv(*common.csv_dir / ("octave_" + info.name + ".csv"),
+      write_csv(csvs, *common.csv_dir / ("octave_" + info.name + ".csv"),
                 {"nominal_hz", "center_hz", "lower_hz", "upper_hz", "level_db"},
                 {&nominal, &center, &lower, &upper, &level});
   }
-  out.file.commit();
+  commit_outputs(out, csvs);
 }
 
 void run_orders(const OrdersCommand& command, const Logger& log, int argc, const char* const* argv) {
   const CommonOptions& common = command.common;
   std::vector<SignalSource> sources = open_signals(common);
+  check_outputs(common, sources, &command.angle, "orders_");
+  std::vector<TextOutput> csvs;
   // The window's samples (`windows`); the tracker reads up to kTrackerMargin samples more on either side,
   // when the file has them, so that every cycle lying wholly inside the window is analysed (its kernel
   // reaches 131 samples beyond an angle sample, orders.cpp).
@@ -643,7 +678,7 @@ void run_orders(const OrdersCommand& command, const Logger& log, int argc, const
       }
       std::vector<const Eigen::VectorXd*> ptrs = {&s.rpm, &s.start_time_s};
       for (const auto& c : cols) ptrs.push_back(&c);
-      write_csv(*common.csv_dir / ("orders_" + info.name + ".csv"), header, ptrs);
+      write_csv(csvs, *common.csv_dir / ("orders_" + info.name + ".csv"), header, ptrs);
     }
   }
   if (command.cut) {
@@ -669,12 +704,13 @@ void run_orders(const OrdersCommand& command, const Logger& log, int argc, const
                     "amplitude");
     c.write("signal", names);
   }
-  out.file.commit();
+  commit_outputs(out, csvs);
 }
 
 void run_stats(const StatsCommand& command, const Logger& log, int argc, const char* const* argv) {
   const CommonOptions& common = command.common;
   std::vector<SignalSource> sources = open_signals(common);
+  check_outputs(common, sources, &command.angle, "", {"stats.csv"});
   for (SignalSource& s : sources)
     apply_window(s, common.window, &command.angle, command.cycle_deg, common.block, log);
   std::future<Provenance> provenance = start_provenance(sources, argc, argv);
@@ -736,6 +772,7 @@ void run_stats(const StatsCommand& command, const Logger& log, int argc, const c
     }
   }
   Output out = create_output(common, provenance, "stats");
+  std::vector<TextOutput> csvs;
   for (std::size_t i = 0; i < sources.size(); ++i) {
     const SignalInfo& info = sources[i].info();
     const Result& r = results[i];
@@ -782,7 +819,28 @@ void run_stats(const StatsCommand& command, const Logger& log, int argc, const c
     }
     log.info(msg.str());
   }
-  out.file.commit();
+  if (common.csv_dir) {
+    // The statistics table: one row per signal, the columns of the HDF5 datasets.
+    TextOutput& csv = csvs.emplace_back(*common.csv_dir / "stats.csv");
+    std::ostream& table = csv.stream();
+    table.precision(10);
+    table << "signal,unit,mean,rms,peak,crest_factor";
+    if (command.band_hz) table << ",band_rms";
+    for (const Harmonic& h : results.front().harmonics)
+      table << ",order_" << h.order << "_amplitude,order_" << h.order << "_phase_deg";
+    table << "\n";
+    for (std::size_t i = 0; i < sources.size(); ++i) {
+      const Result& r = results[i];
+      table << sources[i].info().name << ","
+            << (sources[i].info().unit.empty() ? "1" : sources[i].info().unit) << "," << r.stats.mean() << ","
+            << r.stats.rms() << "," << r.stats.peak() << "," << r.stats.crest_factor();
+      if (command.band_hz) table << "," << r.band_rms;
+      for (const Harmonic& h : r.harmonics) table << "," << h.amplitude << "," << h.phase_deg;
+      table << "\n";
+    }
+    csv.close();
+  }
+  commit_outputs(out, csvs);
 }
 
 }  // namespace nvh::postproc

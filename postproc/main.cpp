@@ -7,6 +7,7 @@
 #include "common/error.hpp"
 #include "common/interrupt.hpp"
 #include "common/log.hpp"
+#include "common/output_path.hpp"
 #include "common/version.hpp"
 #include "postproc/commands.hpp"
 
@@ -174,6 +175,8 @@ int main(int argc, char** argv) {
                    : verbose ? Verbosity::kVerbose
                              : Verbosity::kNormal);
   try {
+    // Before any work: the plot directory must be writable (the other outputs are checked by each command).
+    if (!plot_dir.empty()) check_output_directory(plot_dir);
     std::filesystem::path output;
     if (*s) {
       if (integrate && differentiate) throw Error("give --integrate or --differentiate, not both");
@@ -210,8 +213,12 @@ int main(int argc, char** argv) {
       const std::string command =
           "/usr/bin/python3 '" + script + "' '" + output.string() + "' '" + plot_dir + "'";
       log.detail("plot: " + command);
-      if (std::system(command.c_str()) != 0)
-        throw Error("plotting failed (" + command + "); the HDF5 output is complete");
+      if (std::system(command.c_str()) != 0) {
+        // Exit code 1 means no output: a pipeline (make) must not take the HDF5 file for a finished step.
+        std::error_code ignored;
+        std::filesystem::remove(output, ignored);
+        throw Error("plotting failed (" + command + "); the HDF5 output " + output.string() + " is removed");
+      }
     }
     return static_cast<int>(ExitCode::kSuccess);
   } catch (const Error& e) {

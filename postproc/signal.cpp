@@ -209,6 +209,15 @@ void open_hdf5(const ParsedAddress& a, const std::string& address, SignalInfo& i
   const h5::Group& root = impl.file->root();
   if (!root.exists(path)) throw Error(where + ": no such dataset in the file");
   const std::vector<hsize_t> dims = root.shape(path);
+  // A corrupted shape can claim more samples than the file holds even compressed (deflate: at most about
+  // 1032:1); refused here, before a reader sizes its buffers by it.
+  hsize_t values = 1;
+  for (const hsize_t d : dims) values = d == 0 || values <= ~hsize_t{0} / d ? values * d : ~hsize_t{0};
+  std::error_code size_error;
+  const auto file_bytes = static_cast<hsize_t>(std::filesystem::file_size(a.file, size_error));
+  if (!size_error && values / 1100 > (file_bytes + (hsize_t{1} << 20)) / 8)
+    throw Error(where + ": corrupt: its shape holds more values than the file (" +
+                std::to_string(file_bytes) + " bytes) can hold");
   impl.rank = static_cast<int>(dims.size());
   default_name = path.substr(1);
   if (dims.size() == 1) {
@@ -403,6 +412,10 @@ void open_uff(const ParsedAddress& a, SignalInfo& info, SignalSource::Impl& impl
 }
 
 }  // namespace
+
+std::filesystem::path SignalSource::file_of(const std::string& text) {
+  return parse_address(split_named_address(text).second).file;
+}
 
 SignalSource SignalSource::open(const std::string& text) {
   const auto [name, address] = split_named_address(text);

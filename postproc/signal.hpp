@@ -42,6 +42,8 @@ class SignalSource {
   /// Open an addressed signal (see the header comment). Errors name the address and say what was expected:
   /// missing file or dataset, wrong rank, column out of range, no sample rate, non-uniform time.
   static SignalSource open(const std::string& address);
+  /// The file an address reads (without opening it): what an output must not overwrite.
+  static std::filesystem::path file_of(const std::string& address);
   /// A signal held in memory (tests, the orders of a synthetic run-up).
   static SignalSource from_samples(std::string name, std::vector<double> samples, double sample_rate_hz,
                                    std::string unit = "");

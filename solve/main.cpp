@@ -8,6 +8,7 @@
 #include "common/error.hpp"
 #include "common/interrupt.hpp"
 #include "common/log.hpp"
+#include "common/output_path.hpp"
 #include "common/provenance.hpp"
 #include "common/version.hpp"
 #include "solve/element_registry.hpp"
@@ -96,7 +97,11 @@ int main(int argc, char** argv) {
   }
   const Logger log(std::cerr, "solve", quiet ? Verbosity::kQuiet : verbose ? Verbosity::kVerbose : Verbosity::kNormal);
   try {
+    // Before any work: the results may not replace the scene or a file it reads, and must be writable.
+    check_outputs_are_not_inputs({output_file}, {scene_file});
+    check_output_writable(output_file);
     Scene scene = read_scene(scene_file);
+    check_outputs_are_not_inputs({output_file}, scene.input_files);
     const Provenance provenance = make_provenance("solve", argc, argv, scene.input_files);
     RunOptions options;
     options.output = output_file;

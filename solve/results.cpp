@@ -229,7 +229,7 @@ void ResultsWriter::flush(const Checkpoint& cp) {
   auto t = g.open_appendable("time");
   t.append({&cp.time, 1});
   for (auto* d : {&y, &yp, &s, &t}) d->flush();
-  H5Fflush(file_->root().id(), H5F_SCOPE_GLOBAL);
+  file_->flush();
 }
 
 void ResultsWriter::finish(const std::string& status, const std::string& message, const IntegratorStatistics& st,
@@ -252,14 +252,14 @@ void ResultsWriter::finish(const std::string& status, const std::string& message
   g.set_attribute("wall_s", wall_seconds);
   root.set_attribute("status", status);
   root.set_attribute("message", message);
-  H5Fflush(root.id(), H5F_SCOPE_GLOBAL);
+  file_->flush();
 }
 
 void ResultsWriter::set_drift(double position, double velocity) {
   h5::Group g = file_->root().open_group("solver/statistics");
   g.set_attribute("max_position_drift", position);
   g.set_attribute("max_velocity_drift", velocity);
-  H5Fflush(file_->root().id(), H5F_SCOPE_GLOBAL);
+  file_->flush();
 }
 
 }  // namespace nvh::solve

@@ -11,6 +11,7 @@
 #include "common/hdf5.hpp"
 #include "common/input.hpp"
 #include "common/log.hpp"
+#include "common/output_path.hpp"
 #include "common/provenance.hpp"
 #include "common/version.hpp"
 #include "solve/bearing/bearing_map.hpp"
@@ -44,23 +45,21 @@ const char* to_string(Cavitation c) {
   return c == Cavitation::kJfo ? "jfo" : c == Cavitation::kSwiftStieber ? "swift-stieber" : "none";
 }
 
-void write_csv(const std::filesystem::path& path, const std::vector<MapRow>& rows) {
-  const std::filesystem::path tmp = path.string() + ".tmp";
-  {
-    std::ofstream out(tmp);
-    if (!out) throw Error("cannot write '" + path.string() + "' (does its directory exist?)");
-    const auto names = map_column_names();
-    for (std::size_t i = 0; i < names.size(); ++i) out << (i ? "," : "") << names[i];
+// Written to its temporary and closed; the caller commits it together with the map file.
+TextOutput write_csv(const std::filesystem::path& path, const std::vector<MapRow>& rows) {
+  TextOutput csv(path);
+  std::ostream& out = csv.stream();
+  const auto names = map_column_names();
+  for (std::size_t i = 0; i < names.size(); ++i) out << (i ? "," : "") << names[i];
+  out << "\n";
+  out.precision(10);
+  for (const MapRow& row : rows) {
+    const auto values = map_row_values(row);
+    for (std::size_t i = 0; i < values.size(); ++i) out << (i ? "," : "") << values[i];
     out << "\n";
-    out.precision(10);
-    for (const MapRow& row : rows) {
-      const auto values = map_row_values(row);
-      for (std::size_t i = 0; i < values.size(); ++i) out << (i ? "," : "") << values[i];
-      out << "\n";
-    }
-    if (!out) throw Error("writing '" + path.string() + "' failed");
   }
-  std::filesystem::rename(tmp, path);
+  csv.close();
+  return csv;
 }
 
 }  // namespace
@@ -92,6 +91,11 @@ int bearing_map_main(int argc, char** argv) {
   }
   const Logger log(std::cerr, "bearing-map", quiet ? Verbosity::kQuiet : Verbosity::kNormal);
   try {
+    // Before any work: no output may replace the bearing file or the other output, and both are writable.
+    std::vector<std::filesystem::path> outputs{output_file};
+    if (!csv_file.empty()) outputs.push_back(csv_file);
+    check_outputs_are_not_inputs(outputs, {input_file});
+    for (const auto& output : outputs) check_output_writable(output);
     const input::Document doc = input::Document::load(input_file);
     const input::Table root = doc.root();
     const input::Table table = root.table("bearing");
@@ -155,8 +159,11 @@ int bearing_map_main(int argc, char** argv) {
       map.set_attribute("units", units[c], names[c]);
     }
     map.write("columns", names);
+    // Both outputs are written in full before either is renamed into place: a failure leaves neither.
+    std::optional<TextOutput> csv;
+    if (!csv_file.empty()) csv.emplace(write_csv(csv_file, rows));
     file.commit();
-    if (!csv_file.empty()) write_csv(csv_file, rows);
+    if (csv) csv->commit();
     log.info("wrote " + output_file + (csv_file.empty() ? "" : " and " + csv_file));
     return 0;
   } catch (const Error& e) {

@@ -675,5 +675,74 @@ TEST_F(Hdf5ErrorTest, OpeningErrors) {
             directory_.string() + ": is a directory, expected an HDF5 file");
 }
 
+// ---- a full disk (issue 18): a clean error naming the file, no temporary left, no crash ----
+
+// A 16 KiB tmpfs, when this process may mount one (root); the test is skipped otherwise.
+class Hdf5FullDiskTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("nvh_h5_full_" + std::to_string(::getpid()));
+    fs::create_directories(dir_);
+    if (::geteuid() != 0) GTEST_SKIP() << "mounting a small tmpfs needs root";
+    const std::string mount = "mount -t tmpfs -o size=16k tmpfs " + dir_.string() + " 2>/dev/null";
+    if (std::system(mount.c_str()) != 0)
+      GTEST_SKIP() << "cannot mount a tmpfs here (a container without it?)";
+    mounted_ = true;
+  }
+  void TearDown() override {
+    if (mounted_) {
+      EXPECT_EQ(std::system(("umount " + dir_.string()).c_str()), 0);
+    }
+    fs::remove_all(dir_);
+  }
+  bool empty() const { return fs::is_empty(dir_); }
+  fs::path dir_;
+  bool mounted_ = false;
+};
+
+TEST_F(Hdf5FullDiskTest, CommitOfAFileLargerThanTheDiskFailsCleanly) {
+  const fs::path path = dir_ / "big.h5";
+  const std::string message = error_of([&] {
+    File file = File::create(path);
+    Group root = file.root();
+    root.write("values", Eigen::VectorXd::Random(100000));  // 800 kB that do not compress, in 16 kB
+    file.commit();
+  });
+  EXPECT_NE(message.find(path.string()), std::string::npos) << message;
+  EXPECT_NE(message.find("No space left on device"), std::string::npos) << message;
+  EXPECT_TRUE(empty()) << "the temporary is left behind";
+  // HDF5 still works in this process (its state was not left corrupt by the failed close).
+  const fs::path elsewhere =
+      fs::temp_directory_path() / ("nvh_h5_after_full_" + std::to_string(::getpid()) + ".h5");
+  {
+    File file = File::create(elsewhere);
+    file.root().write("x", 1.0);
+    file.commit();
+  }
+  EXPECT_EQ(File::open_read(elsewhere).root().read_double("x"), 1.0);
+  fs::remove(elsewhere);
+}
+
+TEST_F(Hdf5FullDiskTest, FlushOfAppendedRowsFailsCleanly) {
+  const fs::path path = dir_ / "rows.h5";
+  {
+    File file = File::create(path);
+    file.root().create_appendable("rows", 100);
+    file.commit();
+  }
+  File file = File::open_append(path);
+  AppendableDataset rows = file.root().open_appendable("rows");
+  std::vector<double> values(100 * 1000);  // 800 kB of rows that do not compress
+  std::mt19937 random(7);
+  for (double& v : values) v = std::uniform_real_distribution<double>(0.0, 1.0)(random);
+  const std::string message = error_of([&] {
+    rows.append(values);
+    rows.flush();
+    file.flush();
+  });
+  EXPECT_NE(message.find(path.string()), std::string::npos) << message;
+  EXPECT_NE(message.find("No space left on device"), std::string::npos) << message;
+}
+
 }  // namespace
 }  // namespace nvh::h5

@@ -9,8 +9,10 @@
 #include <hdf5.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -243,6 +245,39 @@ TEST_F(SuperelementFileTest, AnotherMajorVersionIsRefused) {
     EXPECT_NE(message.find(file.string()), std::string::npos) << message;
     EXPECT_NE(message.find("format_version 2.0 is not supported (expected 1.x)"), std::string::npos)
         << message;
+  }
+}
+
+// Garbled numbers (issue 18): what no shape check sees is refused, naming the file and the dataset.
+TEST_F(SuperelementFileTest, GarbledNumbersAreRefusedNamingTheDataset) {
+  struct Case {
+    const char* dataset;
+    std::function<void(SuperelementFile&)> garble;
+    const char* says;
+  };
+  const std::vector<Case> cases = {
+      {"/reduced/mass", [](SuperelementFile& se) { se.mass(0, 1) = 0.5; }, "not symmetric"},
+      {"/reduced/mass", [](SuperelementFile& se) { se.mass(2, 2) = -1.0; }, "not positive definite"},
+      {"/reduced/stiffness", [](SuperelementFile& se) { se.stiffness(1, 0) = std::nan(""); }, "finite"},
+      {"/modes/frequency_hz", [](SuperelementFile& se) { se.frequency_hz[1] = 1.0; }, "ascending"},
+      {"/modes/frequency_hz", [](SuperelementFile& se) { se.frequency_hz[0] = -5.0; }, "non-negative"},
+      {"/interface/shape", [](SuperelementFile& se) { se.interfaces.shapes[0](3, 1) = INFINITY; }, "finite"},
+      {"/invariants/mass", [](SuperelementFile& se) { se.inertia.mass = 0.0; }, "positive mass"},
+      {"/surface/triangles", [](SuperelementFile& se) { se.surface->triangles[0][2] = 99; }, "outside"},
+  };
+  for (const Case& c : cases) {
+    SuperelementFile se = synthetic();
+    c.garble(se);
+    const fs::path file = dir_ / "garbled.h5";
+    write_superelement(file, se, make_provenance("test", 0, nullptr, {}));
+    try {
+      read_superelement(file);
+      ADD_FAILURE() << c.dataset << ": garbled numbers were read";
+    } catch (const Error& e) {
+      const std::string message = e.what();
+      EXPECT_NE(message.find(file.string() + ":" + c.dataset), std::string::npos) << message;
+      EXPECT_NE(message.find(c.says), std::string::npos) << message;
+    }
   }
 }
 
