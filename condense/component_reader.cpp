@@ -18,7 +18,7 @@ using input::Table;
 // (input::Range); these bounds lie orders of magnitude beyond any machine part, so that the element matrices
 // formed of them stay finite: beyond them a value ends as a singular or non-finite matrix, an error far from
 // the key that caused it.
-constexpr double kMaxLength = 1e6;  // m: coordinates, box and cylinder extents
+constexpr double kMaxLength = 1e3;  // m: coordinates, box and cylinder extents (as solve's scene positions)
 const Range kCoordinate = Range::magnitude(kMaxLength);
 const Range kMassRange = Range::closed(0.0, 1e12);  // kg, and kg m^2 for point inertias
 

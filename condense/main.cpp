@@ -201,7 +201,17 @@ int main(int argc, char** argv) {
       }
       run.mesh_export = &mesh_export;
     }
-    Superelement se = condense_component(component, options.backend, log, run);
+    Superelement se = [&] {
+      try {
+        return condense_component(component, options.backend, log, run);
+      } catch (const Error& e) {
+        // A failure of the model itself (a singular stiffness, an eigen-solve that does not converge) comes
+        // from the component's numbers: name the file, so a batch log of many components points at it.
+        const std::string name = std::filesystem::path(component_file).filename().string();
+        if (std::string(e.what()).find(name) != std::string::npos) throw;
+        throw Error(component_file + ": " + e.what() + " (check the component's geometry, materials and supports)");
+      }
+    }();
     bar.reset();
     for (const auto& [name, seconds] : stage_report(timer, se)) {
       se.stage_names.push_back(name);
