@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "common/error.hpp"
+#include "common/interrupt.hpp"
 #include "solve/integrator.hpp"
 #include "solve/jacobian.hpp"
 
@@ -79,6 +80,8 @@ class GeneralizedAlpha final : public Integrator {
         good_steps_ = 0;
         jacobian_fresh_ = false;
       }
+      // A signal: return before the target; the caller samples up to here and writes the checkpoint.
+      if (interrupt_requested()) break;
     }
     cpu_total_ += seconds(Clock::now() - start);
     return t_;
@@ -209,7 +212,10 @@ class GeneralizedAlpha final : public Integrator {
       bool converged = false;
       double previous = 0;
       for (int it = 0; it < 8; ++it) {
-        if (!f.allFinite()) break;
+        if (!f.allFinite()) {  // kept for the message if the step cannot be shortened enough (fail())
+          note_non_finite(ta, ya, ypa);
+          break;
+        }
         const Eigen::VectorXd dy = lu_.solve(-f);  // correction of y_alpha
         ++stats_.linear_solves;
         ++stats_.newton_iterations;
@@ -218,12 +224,14 @@ class GeneralizedAlpha final : public Integrator {
         const double norm = (dy.cwiseProduct(weights).cwiseProduct(mask_)).norm() / std::sqrt(double(n));
         if (norm < 1e-3 || (it > 0 && norm < 1e-2 && norm < 0.2 * previous)) {
           converged = f.allFinite();
+          if (!converged) note_non_finite(ta, ya, ypa);
           break;
         }
         if (it > 1 && norm > 0.9 * previous) break;  // not contracting
         previous = norm;
       }
       if (converged) {
+        non_finite_.clear();
         t_prev_ = t_;
         y_prev_ = y_;
         yp_prev_ = yp_;
@@ -259,9 +267,18 @@ class GeneralizedAlpha final : public Integrator {
 
   [[noreturn]] void fail(double h) const {
     std::ostringstream msg;
-    msg << "generalized-alpha: Newton did not converge at t = " << t_ << " s with step " << h
-        << " s; try a smaller step, adaptive = true, or check the scene's parameters";
+    msg << "generalized-alpha: Newton did not converge at t = " << t_ << " s with step " << h << " s";
+    if (!non_finite_.empty()) msg << "; " << non_finite_;
+    msg << "; try a smaller step, adaptive = true, or check the scene's parameters";
     throw Error(msg.str());
+  }
+
+  void note_non_finite(double t, const Eigen::VectorXd& y, const Eigen::VectorXd& yp) {
+    std::ostringstream msg;
+    msg << "the residual is not finite at t = " << t << " s";
+    const std::string culprit = model_.non_finite_culprit(t, y.data(), yp.data());
+    if (!culprit.empty()) msg << ": " << culprit;
+    non_finite_ = msg.str();
   }
 
   const Model& model_;
@@ -283,6 +300,7 @@ class GeneralizedAlpha final : public Integrator {
   std::vector<char> closed_;   // per gap: on the closed side (< 0) after the last located event
   IntegratorStatistics stats_;
   double cpu_total_ = 0;
+  std::string non_finite_;  // the last non-finite residual since the last converged step (fail())
 };
 
 }  // namespace

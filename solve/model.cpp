@@ -345,6 +345,52 @@ void Model::residual(double t, const double* y, const double* yp, double* f) con
   f[energy_offset_ + 1] = yp[energy_offset_ + 1] - input;
 }
 
+std::string Model::non_finite_culprit(double t, const double* y, const double* yp) const {
+  auto finite = [](const auto& m) { return m.allFinite(); };
+  auto value = [](double v) {
+    std::ostringstream s;
+    s << v;
+    return s.str();
+  };
+  if (!std::isfinite(t)) return "the time is " + value(t);
+  // The state first: a non-finite unknown makes every contribution that reads it non-finite.
+  for (int k = 0; k < size_; ++k) {
+    if (!std::isfinite(y[k])) return "the state " + describe_state(k) + " is " + value(y[k]);
+    if (!std::isfinite(yp[k])) return "the rate of the state " + describe_state(k) + " is " + value(yp[k]);
+  }
+  auto& w = *ws_;
+  for (std::size_t ci = 0; ci < constraints.size(); ++ci) {
+    const auto& c = constraints[ci];
+    ConstraintEquations& eq = w.perturbed[ci];
+    eq.phi.setZero(), eq.di.setZero(), eq.dj.setZero(), eq.phi_t.setZero();
+    c.constraint->evaluate(t, marker_motion(c.i, y), marker_motion(c.j, y), eq);
+    if (!finite(eq.phi) || !finite(eq.di) || !finite(eq.dj) || !finite(eq.phi_t))
+      return c.constraint->type() + " '" + c.name + "' gives non-finite equations";
+  }
+  std::vector<double> rows;
+  for (std::size_t fi = 0; fi < forces.size(); ++fi) {
+    const ForceEntry& fe = forces[fi];
+    rows.assign(static_cast<std::size_t>(fe.state_count), 0.0);
+    evaluate_element(fi, t, y, yp, rows.data());
+    const std::string who = "force element '" + fe.name + "' (" + fe.element->type() + ")";
+    for (std::size_t k = 0; k < fe.markers.size(); ++k) {
+      const Wrench& wr = w.wrenches[fi][k];
+      if (!finite(wr.force) || !finite(wr.torque))
+        return who + " gives a non-finite " + (finite(wr.force) ? "torque" : "force") + " at its marker " +
+               std::to_string(k);
+    }
+    for (int s = 0; s < fe.state_count; ++s)
+      if (!std::isfinite(rows[s]))
+        return who + " gives a non-finite row for its state " + fe.element->states()[s].name;
+  }
+  // The rest (bodies' inertia and kinematics, the clock, the energy rows): the first non-finite row.
+  Eigen::VectorXd f(size_);
+  residual(t, y, yp, f.data());
+  for (int k = 0; k < size_; ++k)
+    if (!std::isfinite(f[k])) return "the equation of " + describe_state(k) + " is " + value(f[k]);
+  return {};
+}
+
 // Uses the wrenches left in the workspace by the residual's element loop.
 void Model::element_powers(double t, const double* y, const double* yp, double& dissipated,
                            double& input) const {
