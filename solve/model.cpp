@@ -10,6 +10,7 @@
 #include <Eigen/Geometry>
 
 #include "common/error.hpp"
+#include "common/interrupt.hpp"
 
 namespace nvh::solve {
 
@@ -850,6 +851,9 @@ void Model::consistent_initial_state(double t0, Eigen::VectorXd& y, Eigen::Vecto
   if (n_eq_ > 0) {
     double initial_violation = 0;
     for (int it = 0; it < 50; ++it) {
+      // Dense decompositions of the whole constraint matrix: seconds on a large model, so a signal is heard
+      // (solve polls the flag, the results file does not exist yet: nothing to keep).
+      if (interrupt_requested()) throw Interrupted("interrupted while assembling the initial positions");
       constraint_matrix(t0, y.data(), cm, phi, phi_t);
       if (it == 0) initial_violation = phi.lpNorm<Eigen::Infinity>();
       if (phi.lpNorm<Eigen::Infinity>() < 1e-13) break;
@@ -951,6 +955,8 @@ void Model::consistent_initial_state(double t0, Eigen::VectorXd& y, Eigen::Vecto
         const int k = fe.state_offset + s;
         double& v = differential ? yp[k] : y[k];
         for (int it = 0; it < 20; ++it) {
+          if (interrupt_requested())
+            throw Interrupted("interrupted while finding the initial element states");
           residual(t0, y.data(), yp.data(), f0.data());
           if (std::abs(f0[k]) < 1e-14 * std::max(1.0, std::abs(v))) break;
           const double h = 1e-7 * std::max(1.0, std::abs(v));

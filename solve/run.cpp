@@ -59,12 +59,14 @@ RunSummary run_scene(Scene& scene, const RunOptions& options, const Provenance& 
   double t0 = scene.start_time;
   long first_sample = 0;
   std::unique_ptr<ResultsWriter> writer;
+  double angle_origin = 0;  // end-by-angle: the crank angle at the start of the (original) run
 
   if (options.restart) {
     // Redundant equations are found again from the start configuration (the same scene gives the same set),
     // before the file is reopened (an interrupt in there leaves the file as it was).
     Eigen::VectorXd y_start, yp_start;
     model.consistent_initial_state(scene.start_time, y_start, yp_start, log);
+    angle_origin = model.crank_angle(y_start.data());
     Checkpoint cp;
     writer = std::make_unique<ResultsWriter>(ResultsWriter::reopen(options.output, scene, cp));
     y = cp.y;
@@ -75,21 +77,13 @@ RunSummary run_scene(Scene& scene, const RunOptions& options, const Provenance& 
              " samples kept)");
   } else {
     model.consistent_initial_state(t0, y, yp, log);
+    angle_origin = model.crank_angle(y.data());
     require_finite(model, t0, y, yp);
     Checkpoint start;
     start.time = t0;
     start.y = y;
     start.yp = yp;
     writer = std::make_unique<ResultsWriter>(ResultsWriter::create(options.output, scene, provenance, start));
-  }
-  const double angle_start =
-      options.restart ? 0.0 : model.crank_angle(y.data());  // end-by-angle: measured from the start angle
-  double angle_origin = angle_start;
-  if (options.restart && scene.end_angle_deg > 0) {
-    // the start angle of the original run: recomputed from a fresh consistent start
-    Eigen::VectorXd y0, yp0;
-    model.consistent_initial_state(scene.start_time, y0, yp0, log);
-    angle_origin = model.crank_angle(y0.data());
   }
 
   auto integrator = make_integrator(model, scene.integrator, t0, y, yp);
