@@ -208,7 +208,10 @@ class GeneralizedAlpha final : public Integrator {
       jacobian_fresh_now_ = false;
       a = yp_;
       stage();
-      if (!jacobian_fresh_ || std::abs(cj - cj_) > 1e-12 * cj) factor(ta, ya, ypa, f, cj, h, weights);
+      if ((!jacobian_fresh_ || std::abs(cj - cj_) > 1e-12 * cj) && !factor(ta, ya, ypa, f, cj, h, weights)) {
+        ++stats_.nonlinear_failures;  // a non-finite Jacobian: a shorter step, as for a non-finite residual
+        return false;
+      }
       bool converged = false;
       double previous = 0;
       for (int it = 0; it < 8; ++it) {
@@ -247,7 +250,8 @@ class GeneralizedAlpha final : public Integrator {
     return false;
   }
 
-  void factor(double ta, const Eigen::VectorXd& ya, const Eigen::VectorXd& ypa, const Eigen::VectorXd& f,
+  /// False (and the cause noted for fail()) if the Jacobian is not finite.
+  bool factor(double ta, const Eigen::VectorXd& ya, const Eigen::VectorXd& ypa, const Eigen::VectorXd& f,
               double cj, double h, const Eigen::VectorXd& weights) {
     const auto start = Clock::now();
     if (s_.jacobian == "analytic")
@@ -256,6 +260,12 @@ class GeneralizedAlpha final : public Integrator {
       jacobian_.evaluate(ta, ya, ypa, f, cj, h, weights, values_);
     ++stats_.jacobian_evaluations;
     stats_.cpu_jacobian_s += seconds(Clock::now() - start);
+    for (double v : values_)
+      if (!std::isfinite(v)) {
+        jacobian_fresh_ = false;
+        note_non_finite(ta, ya, ypa, "the Jacobian");
+        return false;
+      }
     std::copy(values_.begin(), values_.end(), matrix_.valuePtr());
     lu_.factorize(matrix_);
     if (lu_.info() != Eigen::Success)
@@ -263,6 +273,7 @@ class GeneralizedAlpha final : public Integrator {
     cj_ = cj;
     jacobian_fresh_ = true;
     jacobian_fresh_now_ = true;
+    return true;
   }
 
   [[noreturn]] void fail(double h) const {
@@ -273,9 +284,10 @@ class GeneralizedAlpha final : public Integrator {
     throw Error(msg.str());
   }
 
-  void note_non_finite(double t, const Eigen::VectorXd& y, const Eigen::VectorXd& yp) {
+  void note_non_finite(double t, const Eigen::VectorXd& y, const Eigen::VectorXd& yp,
+                       const char* what = "the residual") {
     std::ostringstream msg;
-    msg << "the residual is not finite at t = " << t << " s";
+    msg << what << " is not finite at t = " << t << " s";
     const std::string culprit = model_.non_finite_culprit(t, y.data(), yp.data());
     if (!culprit.empty()) msg << ": " << culprit;
     non_finite_ = msg.str();
