@@ -109,13 +109,6 @@ ResultsWriter ResultsWriter::reopen(const std::filesystem::path& path, const Sce
   ResultsWriter w;
   w.file_ = std::make_unique<h5::File>(h5::File::open_append(path));
   h5::Group root = w.file_->root();
-  // A run killed (SIGKILL) while HDF5 was writing can leave data past the end of allocation recorded in the
-  // superblock, and the next write fails with "addr overflow" (found by killing at random times): move the
-  // end of allocation to the end of the file first, as `h5clear --increment` does.
-  if (const hid_t file_id = H5Iget_file_id(root.id()); file_id >= 0) {
-    H5Fincrement_filesize(file_id, 0);
-    H5Fclose(file_id);
-  }
   if (!root.has_attribute("format") || root.string_attribute("format") != kResultsFormat)
     throw Error(path.string() + ": not a results file of solve (no format = \"nvh-results\" attribute)");
   if (root.string_attribute("layout") != layout_signature(scene))
