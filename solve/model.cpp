@@ -354,11 +354,13 @@ std::string Model::non_finite_culprit(double t, const double* y, const double* y
     return s.str();
   };
   if (!std::isfinite(t)) return "the time is " + value(t);
-  // The state first: a non-finite unknown makes every contribution that reads it non-finite.
-  for (int k = 0; k < size_; ++k) {
-    if (!std::isfinite(y[k])) return "the state " + describe_state(k) + " is " + value(y[k]);
-    if (!std::isfinite(yp[k])) return "the rate of the state " + describe_state(k) + " is " + value(yp[k]);
-  }
+  // The differential states first: a non-finite one makes every contribution that reads it non-finite. The
+  // rates and the multipliers after the contributions: non-finite accelerations and reactions come from a
+  // force (a contact with clearance = -inf at the consistent start), which is the one to name.
+  const Eigen::VectorXd differential = differential_mask();
+  for (int k = 0; k < size_; ++k)
+    if (differential[k] > 0 && !std::isfinite(y[k]))
+      return "the state " + describe_state(k) + " is " + value(y[k]);
   auto& w = *ws_;
   for (std::size_t ci = 0; ci < constraints.size(); ++ci) {
     const auto& c = constraints[ci];
@@ -383,6 +385,10 @@ std::string Model::non_finite_culprit(double t, const double* y, const double* y
     for (int s = 0; s < fe.state_count; ++s)
       if (!std::isfinite(rows[s]))
         return who + " gives a non-finite row for its state " + fe.element->states()[s].name;
+  }
+  for (int k = 0; k < size_; ++k) {
+    if (!std::isfinite(y[k])) return "the state " + describe_state(k) + " is " + value(y[k]);
+    if (!std::isfinite(yp[k])) return "the rate of the state " + describe_state(k) + " is " + value(yp[k]);
   }
   // The rest (bodies' inertia and kinematics, the clock, the energy rows): the first non-finite row.
   Eigen::VectorXd f(size_);

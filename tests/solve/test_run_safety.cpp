@@ -180,6 +180,24 @@ TEST(SolveRunSafety, ANonFiniteForceFailsTheRunNamingTheElementAndTheTime) {
   }
 }
 
+// Non-finite from the start (a contact with clearance = -inf did this): the consistent start's accelerations
+// and reactions are NaN; the error names the element, not the first NaN unknown, and no file is written.
+TEST(SolveRunSafety, ANonFiniteStartNamesTheElementAndWritesNothing) {
+  std::string text = slider_crank_text();
+  text.insert(text.find("[clock]"), std::string(kMount) + "\n");
+  Scene scene =
+      parse_scene(text, "slider_crank.toml", std::filesystem::path(NVH_SOURCE_DIR) / "testdata/scenes");
+  auto& entry = scene.model.forces.back();
+  entry.element = std::make_unique<NanAfter>(std::move(entry.element), 0.0);
+  const auto out = testing::temp_path("nan_start.h5");
+  std::filesystem::remove(out);
+  const std::string e = run_error(scene, out);
+  EXPECT_NE(e.find("not finite at t = 0 s: force element 'mount' (spring-damper) gives a non-finite force"),
+            std::string::npos)
+      << e;
+  EXPECT_FALSE(std::filesystem::exists(out));
+}
+
 // A write failure mid-run (a full disk, simulated by RLIMIT_FSIZE: writes beyond 300 KB fail with EFBIG):
 // the run fails with a message naming the write, and the file, as far as it could be written, does not stay
 // "running" without saying why (before, the handler's own checkpoint threw again and the status stayed
