@@ -147,8 +147,9 @@ RunSummary run_scene(Scene& scene, const RunOptions& options, const Provenance& 
         writer->add_sample(ts, scene, ys, yps);
         ++k;
         ++since_flush;
-        // Many samples in one step (a high rate): written as they come, memory stays bounded.
-        if (writer->buffered() >= scene.output.chunk_samples) writer->flush_samples();
+        // Many samples in one step (a high rate): written as they come, memory stays bounded. (At twice the
+        // chunk: a normal run reaches one chunk only at the checkpoint after the step, which writes them.)
+        if (writer->buffered() >= 2L * scene.output.chunk_samples) writer->flush_samples();
         if (interrupt_requested()) {
           stopped_inside_step = sample_time(k) <= std::min(t, t_end) + 1e-9 * dt;
           break;
