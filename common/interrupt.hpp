@@ -7,7 +7,17 @@
 // project: a fixed table of temporary paths, touched only through these functions.
 #include <filesystem>
 
+#include "common/error.hpp"
+
 namespace nvh {
+
+/// Thrown by a computation that polls interrupt_requested() where it cannot stop with a result (solve's
+/// consistent start, before the results file exists; the eccentricities of solve bearing-map): the CLIs
+/// exit with code 3 and write nothing.
+class Interrupted : public Error {
+ public:
+  using Error::Error;
+};
 
 /// Install the handlers once per process (the tools' main() calls it first).
 void install_interrupt_handler(const char* tool);

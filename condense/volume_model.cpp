@@ -229,8 +229,19 @@ Mesh load_volume_mesh(const Component& c) {
   // geometry is meshed with second-order tetrahedra by default).
   std::vector<std::string> skipped;
   const bool inp = c.volume.mesh.extension() == ".inp" || c.volume.mesh.extension() == ".INP";
-  Mesh mesh = inp ? read_abaqus_mesh(c.volume.mesh, &skipped)
-                  : mesh_with_gmsh(GmshRequest{c.volume.mesh, c.volume.order, mesh_size(c), 1});
+  // The size first, on its own: when mesh_size threw inside the braced request (after its path member was
+  // built), ASan reported a stack-use-after-scope in the unwinding of the half-built temporary.
+  Mesh mesh;
+  if (inp) {
+    mesh = read_abaqus_mesh(c.volume.mesh, &skipped);
+  } else {
+    GmshRequest request;
+    request.geometry = c.volume.mesh;
+    request.order = c.volume.order;
+    request.size = mesh_size(c);
+    request.threads = 1;
+    mesh = mesh_with_gmsh(request);
+  }
   if (mesh.elements.empty()) {
     throw Error(
         "the mesh " + c.volume.mesh.string() + " holds no solid elements (C3D4, C3D10, C3D8 or C3D20)",

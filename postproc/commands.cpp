@@ -308,17 +308,22 @@ OrderSpectra cycles_in_window(const OrderSpectra& all, const SampleRange& window
   throw Error(msg.str());
 }
 
-/// Samples per cycle from the highest speed of the angle signal (one streamed pass).
+/// Samples per cycle: --samples-per-cycle, or from the highest speed of the angle signal (one streamed pass,
+/// made in both cases: it also gives the cycles the signal spans). Checked before any plan or allocation: the
+/// angle-domain signal, cycles x M samples, may be at most kMaxResampling times the signal's N samples (more
+/// resolves nothing the signal holds, and --cycle 0.01 or --samples-per-cycle 1e6 ran without bound), and M
+/// at most kMaxResampling N and kMaxSamplesPerCycle (docs/cli.md, postproc).
 int samples_per_cycle_from(const AngleSource& angle, const SignalSource& signal, const OrderOptions& options,
                            std::int64_t block, const Logger& log) {
-  if (options.samples_per_cycle > 0) return options.samples_per_cycle;
+  constexpr double kMaxResampling = 16;
   AngleProvider provider(angle, signal, block, log);
   const double fs = signal.info().sample_rate_hz;
-  double max_speed = 0.0, last = 0.0;
+  double max_speed = 0.0, last = 0.0, first = 0.0;
   std::vector<double> a;
   for (std::int64_t offset = 0; offset < signal.size(); offset += block) {
     a.resize(static_cast<std::size_t>(std::min(block, signal.size() - offset)));
     provider.read(offset, a);
+    if (offset == 0) first = a[0];
     // Sample-to-sample speed; noise only raises M (more angle samples), never loses orders.
     for (std::size_t i = 0; i < a.size(); ++i) {
       const double previous = (offset == 0 && i == 0) ? a[0] : (i == 0 ? last : a[i - 1]);
@@ -327,7 +332,33 @@ int samples_per_cycle_from(const AngleSource& angle, const SignalSource& signal,
     last = a.back();
   }
   if (!(max_speed > 0.0)) throw Error("orders: the shaft does not turn in '" + signal.info().address + "'");
-  return choose_samples_per_cycle(fs, max_speed, options.cycle_deg);
+  const bool given = options.samples_per_cycle > 0;
+  const int m =
+      given ? options.samples_per_cycle : choose_samples_per_cycle(fs, max_speed, options.cycle_deg);
+  const double n = static_cast<double>(signal.size());
+  const double cycles = (last - first) / options.cycle_deg;
+  const double resampled = cycles * m;
+  std::ostringstream msg;
+  msg.precision(6);
+  if (given && (m > kMaxSamplesPerCycle || m > kMaxResampling * n)) {
+    msg << "--samples-per-cycle " << m << ": more than "
+        << std::min<double>(kMaxSamplesPerCycle, kMaxResampling * n) << " (the smaller of "
+        << kMaxSamplesPerCycle << " and " << kMaxResampling << " x the " << n << " samples of '"
+        << signal.info().address << "')";
+    throw Error(msg.str());
+  }
+  if (resampled > kMaxResampling * n) {
+    msg << (given ? "--samples-per-cycle " + std::to_string(m) + " with " : std::string()) << "--cycle "
+        << options.cycle_deg << " deg: signal '" << signal.info().address << "' spans " << cycles
+        << " cycles, resampled to " << resampled << " angle samples, more than " << kMaxResampling
+        << " x its " << n << " samples; expected "
+        << (given ? "at most " + std::to_string(static_cast<long long>(kMaxResampling * n / cycles)) +
+                        " samples per cycle or a longer cycle"
+                  : "a cycle of at least " +
+                        std::to_string(options.cycle_deg * resampled / (kMaxResampling * n)) + " deg");
+    throw Error(msg.str());
+  }
+  return m;
 }
 
 }  // namespace
@@ -428,9 +459,23 @@ void run_octave(const OctaveCommand& command, const Logger& log, int argc, const
       fmax = std::min(fmax, 0.999 * s.info().sample_rate_hz / 2.0 / half_band / std::sqrt(half_band));
   }
   const std::vector<Band> bands = fractional_octave_bands(command.fraction, command.fmin_hz, fmax);
-  // Check every signal before writing anything.
-  for (const SignalSource& s : sources)
+  // Check every signal before writing anything. The Leq intervals: at least 10 samples each, and at most
+  // kMaxIntervalValues (interval, band) values in all (80 MB), so --interval 1e-9 is an error, not a hang.
+  constexpr double kMaxIntervalValues = 1e7;
+  for (const SignalSource& s : sources) {
     OctaveFilterBank check(bands, s.info().sample_rate_hz, 0.0, s.info().address);
+    if (command.interval_s <= 0 || command.method != "filter") continue;
+    const double fs = s.info().sample_rate_hz, duration = static_cast<double>(s.size()) / fs;
+    const double shortest =
+        std::max(10.0 / fs, duration * static_cast<double>(bands.size()) / kMaxIntervalValues);
+    if (!(command.interval_s >= shortest)) {
+      std::ostringstream msg;
+      msg << "--interval " << command.interval_s << " s: expected at least " << shortest << " s for signal '"
+          << s.info().address << "' (" << duration << " s, " << fs << " Hz, " << bands.size()
+          << " bands): 10 samples, and at most " << kMaxIntervalValues << " (interval, band) levels";
+      throw Error(msg.str());
+    }
+  }
   std::vector<int> fft_lengths;
   if (command.method == "fft") {
     const double narrowest = bands.front().upper_hz - bands.front().lower_hz;
@@ -568,16 +613,16 @@ void run_orders(const OrdersCommand& command, const Logger& log, int argc, const
     OrderTracker tracker(info.sample_rate_hz, command.options, samples_per_cycle[i]);
     std::unique_ptr<CampbellAccumulator> campbell;
     if (command.campbell) {
-      int n = 16;
-      while (n < info.sample_rate_hz / command.campbell_resolution_hz) n *= 2;
+      std::int64_t n = 16;  // (an int overflowed on a tiny --campbell-resolution)
+      while (n < info.sample_rate_hz / command.campbell_resolution_hz && n <= windows[i].size) n *= 2;
       if (n > windows[i].size)
         rethrow_in_window(
             Error("orders: signal '" + info.address + "' is too short for a Campbell frame of " +
                   std::to_string(n) + " samples; lower --campbell-resolution"),
             common.window, sources[i]);
       campbell = std::make_unique<CampbellAccumulator>(
-          info.sample_rate_hz, n, std::min(command.campbell_fmax_hz, info.sample_rate_hz / 2),
-          command.campbell_rpm_step);
+          info.sample_rate_hz, static_cast<int>(n),
+          std::min(command.campbell_fmax_hz, info.sample_rate_hz / 2), command.campbell_rpm_step);
     }
     std::vector<double> a;
     for_each_block(

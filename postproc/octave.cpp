@@ -96,6 +96,13 @@ struct OctaveFilterBank::Stage {
 OctaveFilterBank::OctaveFilterBank(std::vector<Band> bands, double fs, double interval_s,
                                    const std::string& signal_name)
     : bands_(std::move(bands)), fs_(fs), interval_s_(interval_s) {
+  // An interval of less than a sample made one interval per sample per band, without bound.
+  if (!(interval_s >= 0 && std::isfinite(interval_s)) || (interval_s > 0 && interval_s * fs < 1)) {
+    std::ostringstream msg;
+    msg << "octave: the Leq interval " << interval_s << " s is not a time of at least one sample (" << 1 / fs
+        << " s) of signal '" << signal_name << "'";
+    throw Error(msg.str());
+  }
   for (const Band& band : bands_) {
     if (band.upper_hz >= fs / 2.0) {
       std::ostringstream msg;

@@ -216,10 +216,21 @@ struct OrderTracker::Impl {
   }
 };
 
-OrderTracker::OrderTracker(double fs, const OrderOptions& options, int samples_per_cycle)
-    : impl_(std::make_unique<Impl>(fs, options, samples_per_cycle)) {
-  if (samples_per_cycle < 8) throw Error("orders: samples per cycle must be >= 8");
+namespace {
+// Checked before the FFT plan is made (FFTW aborted on 2^31 - 1 points, the plan was made before this check).
+int checked_samples_per_cycle(double fs, const OrderOptions& options, int m) {
+  if (m < 8 || m > kMaxSamplesPerCycle)
+    throw Error("orders: samples per cycle " + std::to_string(m) + ": expected 8 to " +
+                std::to_string(kMaxSamplesPerCycle));
+  if (!(std::isfinite(options.cycle_deg) && options.cycle_deg > 0))
+    throw Error("orders: the cycle must be a finite angle > 0 deg");
+  if (!(std::isfinite(fs) && fs > 0)) throw Error("orders: the sample rate must be finite and > 0 Hz");
+  return m;
 }
+}  // namespace
+
+OrderTracker::OrderTracker(double fs, const OrderOptions& options, int samples_per_cycle)
+    : impl_(std::make_unique<Impl>(fs, options, checked_samples_per_cycle(fs, options, samples_per_cycle))) {}
 
 OrderTracker::~OrderTracker() = default;
 

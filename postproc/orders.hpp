@@ -34,6 +34,9 @@ struct OrderOptions {
   Interpolation interpolation = Interpolation::kSinc;
 };
 
+/// The largest M (an FFT of M points per cycle; FFTW aborted on 2^31 - 1).
+inline constexpr int kMaxSamplesPerCycle = 1 << 24;
+
 /// A power of two M with M / cycle >= f_s / (max shaft speed): no loss at the highest speed.
 int choose_samples_per_cycle(double sample_rate_hz, double max_rev_per_s, double cycle_deg);
 

@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "common/error.hpp"
+#include "common/interrupt.hpp"
 #include "solve/integrator.hpp"
 #include "solve/jacobian.hpp"
 
@@ -79,6 +80,8 @@ class GeneralizedAlpha final : public Integrator {
         good_steps_ = 0;
         jacobian_fresh_ = false;
       }
+      // A signal: return before the target; the caller samples up to here and writes the checkpoint.
+      if (interrupt_requested()) break;
     }
     cpu_total_ += seconds(Clock::now() - start);
     return t_;
@@ -205,11 +208,17 @@ class GeneralizedAlpha final : public Integrator {
       jacobian_fresh_now_ = false;
       a = yp_;
       stage();
-      if (!jacobian_fresh_ || std::abs(cj - cj_) > 1e-12 * cj) factor(ta, ya, ypa, f, cj, h, weights);
+      if ((!jacobian_fresh_ || std::abs(cj - cj_) > 1e-12 * cj) && !factor(ta, ya, ypa, f, cj, h, weights)) {
+        ++stats_.nonlinear_failures;  // a non-finite Jacobian: a shorter step, as for a non-finite residual
+        return false;
+      }
       bool converged = false;
       double previous = 0;
       for (int it = 0; it < 8; ++it) {
-        if (!f.allFinite()) break;
+        if (!f.allFinite()) {  // kept for the message if the step cannot be shortened enough (fail())
+          note_non_finite(ta, ya, ypa);
+          break;
+        }
         const Eigen::VectorXd dy = lu_.solve(-f);  // correction of y_alpha
         ++stats_.linear_solves;
         ++stats_.newton_iterations;
@@ -218,12 +227,14 @@ class GeneralizedAlpha final : public Integrator {
         const double norm = (dy.cwiseProduct(weights).cwiseProduct(mask_)).norm() / std::sqrt(double(n));
         if (norm < 1e-3 || (it > 0 && norm < 1e-2 && norm < 0.2 * previous)) {
           converged = f.allFinite();
+          if (!converged) note_non_finite(ta, ya, ypa);
           break;
         }
         if (it > 1 && norm > 0.9 * previous) break;  // not contracting
         previous = norm;
       }
       if (converged) {
+        non_finite_.clear();
         t_prev_ = t_;
         y_prev_ = y_;
         yp_prev_ = yp_;
@@ -239,7 +250,8 @@ class GeneralizedAlpha final : public Integrator {
     return false;
   }
 
-  void factor(double ta, const Eigen::VectorXd& ya, const Eigen::VectorXd& ypa, const Eigen::VectorXd& f,
+  /// False (and the cause noted for fail()) if the Jacobian is not finite.
+  bool factor(double ta, const Eigen::VectorXd& ya, const Eigen::VectorXd& ypa, const Eigen::VectorXd& f,
               double cj, double h, const Eigen::VectorXd& weights) {
     const auto start = Clock::now();
     if (s_.jacobian == "analytic")
@@ -248,6 +260,12 @@ class GeneralizedAlpha final : public Integrator {
       jacobian_.evaluate(ta, ya, ypa, f, cj, h, weights, values_);
     ++stats_.jacobian_evaluations;
     stats_.cpu_jacobian_s += seconds(Clock::now() - start);
+    for (double v : values_)
+      if (!std::isfinite(v)) {
+        jacobian_fresh_ = false;
+        note_non_finite(ta, ya, ypa, "the Jacobian");
+        return false;
+      }
     std::copy(values_.begin(), values_.end(), matrix_.valuePtr());
     lu_.factorize(matrix_);
     if (lu_.info() != Eigen::Success)
@@ -255,13 +273,24 @@ class GeneralizedAlpha final : public Integrator {
     cj_ = cj;
     jacobian_fresh_ = true;
     jacobian_fresh_now_ = true;
+    return true;
   }
 
   [[noreturn]] void fail(double h) const {
     std::ostringstream msg;
-    msg << "generalized-alpha: Newton did not converge at t = " << t_ << " s with step " << h
-        << " s; try a smaller step, adaptive = true, or check the scene's parameters";
+    msg << "generalized-alpha: Newton did not converge at t = " << t_ << " s with step " << h << " s";
+    if (!non_finite_.empty()) msg << "; " << non_finite_;
+    msg << "; try a smaller step, adaptive = true, or check the scene's parameters";
     throw Error(msg.str());
+  }
+
+  void note_non_finite(double t, const Eigen::VectorXd& y, const Eigen::VectorXd& yp,
+                       const char* what = "the residual") {
+    std::ostringstream msg;
+    msg << what << " is not finite at t = " << t << " s";
+    const std::string culprit = model_.non_finite_culprit(t, y.data(), yp.data());
+    if (!culprit.empty()) msg << ": " << culprit;
+    non_finite_ = msg.str();
   }
 
   const Model& model_;
@@ -283,6 +312,7 @@ class GeneralizedAlpha final : public Integrator {
   std::vector<char> closed_;   // per gap: on the closed side (< 0) after the last located event
   IntegratorStatistics stats_;
   double cpu_total_ = 0;
+  std::string non_finite_;  // the last non-finite residual since the last converged step (fail())
 };
 
 }  // namespace

@@ -14,12 +14,14 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <exception>
 #include <sstream>
 #include <utility>
 #include <vector>
 
 #include "common/error.hpp"
+#include "common/interrupt.hpp"
 #include "solve/integrator.hpp"
 #include "solve/jacobian.hpp"
 
@@ -112,6 +114,7 @@ class IdaIntegrator final : public Integrator {
       if (flag < 0) fail(flag);
       t_ = tret;
       stepped_ = true;
+      non_finite_.clear();  // a non-finite trial that IDA recovered from by a shorter step is no failure
       if (flag == IDA_ROOT_RETURN) {
         IDAGetRootInfo(mem_, roots_found_.data());
         for (int k = 0; k < gaps_; ++k)
@@ -122,6 +125,8 @@ class IdaIntegrator final : public Integrator {
         restart_pending_ = kRestartAtEvents;
       }
       if (flag == IDA_TSTOP_RETURN) break;
+      // A signal: return before the target; the caller samples up to here and writes the checkpoint.
+      if (interrupt_requested()) break;
     }
     cpu_total_ += seconds(Clock::now() - start);
     return t_;
@@ -228,12 +233,26 @@ class IdaIntegrator final : public Integrator {
       culprit = model_.describe_state(static_cast<int>(k));
     }
     std::ostringstream msg;
-    msg << "the integrator failed at t = " << t_now << " s (IDA flag " << flag << ": " << IDAGetReturnFlagName(flag)
+    // The name is malloc'd by SUNDIALS (IDAGetReturnFlagName): freed here, it leaked on every failure.
+    char* name = IDAGetReturnFlagName(flag);
+    msg << "the integrator failed at t = " << t_now << " s (IDA flag " << flag << ": " << (name ? name : "?")
         << ")";
+    std::free(name);
+    // Non-finite forces or states are the cause whatever IDA reports (it cuts the step until it gives up).
+    if (!non_finite_.empty()) msg << "; " << non_finite_;
     if (!culprit.empty()) msg << "; the largest weighted error is in " << culprit;
     if (!last_message_.empty()) msg << "; IDA says: " << last_message_;
     msg << ". Try a smaller max_step or tolerances, or check that element's parameters.";
     throw Error(msg.str());
+  }
+
+  /// Which element or state makes `what` non-finite at (t, y, y') (Model::non_finite_culprit), for fail().
+  void note_non_finite(double t, N_Vector y, N_Vector yp, const char* what) {
+    std::ostringstream msg;
+    msg << what << " is not finite at t = " << t << " s";
+    const std::string culprit = model_.non_finite_culprit(t, N_VGetArrayPointer(y), N_VGetArrayPointer(yp));
+    if (!culprit.empty()) msg << ": " << culprit;
+    non_finite_ = msg.str();
   }
 
   static int residual(double t, N_Vector y, N_Vector yp, N_Vector r, void* data) {
@@ -247,7 +266,10 @@ class IdaIntegrator final : public Integrator {
     }
     self->cpu_residual_ += seconds(Clock::now() - start);
     for (double v : view(r))
-      if (!std::isfinite(v)) return 1;  // recoverable: IDA cuts the step
+      if (!std::isfinite(v)) {  // recoverable: IDA cuts the step; kept for the message if it gives up
+        self->note_non_finite(t, y, yp, "the residual");
+        return 1;
+      }
     return 0;
   }
 
@@ -275,6 +297,11 @@ class IdaIntegrator final : public Integrator {
       for (int c = 0; c <= p.n; ++c) colptr[c] = p.column_start[c];
       for (int k = 0; k < p.nonzeros(); ++k) rowval[k] = p.rows[k];
       std::copy(self->values_.begin(), self->values_.end(), SUNSparseMatrix_Data(j));
+      for (double v : self->values_)
+        if (!std::isfinite(v)) {  // KLU would fail on it unrecoverably: a shorter step instead
+          self->note_non_finite(t, y, yp, "the Jacobian");
+          return 1;
+        }
     } catch (...) {
       self->pending_ = std::current_exception();
       return -1;
@@ -303,6 +330,7 @@ class IdaIntegrator final : public Integrator {
   double cpu_residual_ = 0, cpu_jacobian_ = 0, cpu_total_ = 0;
   std::exception_ptr pending_;
   std::string last_message_;
+  std::string non_finite_;  // the last non-finite residual or Jacobian since the last step (fail())
 };
 
 }  // namespace

@@ -129,6 +129,9 @@ int main(int argc, char** argv) {
           << " (velocity)";
     log.info(out.str());
     return s.status == "complete" ? 0 : static_cast<int>(ExitCode::kInterrupted);
+  } catch (const Interrupted& e) {  // before the results file existed: nothing written
+    log.error(std::string(e.what()) + "; nothing written");
+    return static_cast<int>(ExitCode::kInterrupted);
   } catch (const Error& e) {
     log.error(e.what());
     return static_cast<int>(ExitCode::kFailure);

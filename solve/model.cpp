@@ -10,6 +10,7 @@
 #include <Eigen/Geometry>
 
 #include "common/error.hpp"
+#include "common/interrupt.hpp"
 
 namespace nvh::solve {
 
@@ -343,6 +344,58 @@ void Model::residual(double t, const double* y, const double* yp, double* f) con
   element_powers(t, y, yp, dissipated, input);
   f[energy_offset_] = yp[energy_offset_] - dissipated;
   f[energy_offset_ + 1] = yp[energy_offset_ + 1] - input;
+}
+
+std::string Model::non_finite_culprit(double t, const double* y, const double* yp) const {
+  auto finite = [](const auto& m) { return m.allFinite(); };
+  auto value = [](double v) {
+    std::ostringstream s;
+    s << v;
+    return s.str();
+  };
+  if (!std::isfinite(t)) return "the time is " + value(t);
+  // The differential states first: a non-finite one makes every contribution that reads it non-finite. The
+  // rates and the multipliers after the contributions: non-finite accelerations and reactions come from a
+  // force (a contact with clearance = -inf at the consistent start), which is the one to name.
+  const Eigen::VectorXd differential = differential_mask();
+  for (int k = 0; k < size_; ++k)
+    if (differential[k] > 0 && !std::isfinite(y[k]))
+      return "the state " + describe_state(k) + " is " + value(y[k]);
+  auto& w = *ws_;
+  for (std::size_t ci = 0; ci < constraints.size(); ++ci) {
+    const auto& c = constraints[ci];
+    ConstraintEquations& eq = w.perturbed[ci];
+    eq.phi.setZero(), eq.di.setZero(), eq.dj.setZero(), eq.phi_t.setZero();
+    c.constraint->evaluate(t, marker_motion(c.i, y), marker_motion(c.j, y), eq);
+    if (!finite(eq.phi) || !finite(eq.di) || !finite(eq.dj) || !finite(eq.phi_t))
+      return c.constraint->type() + " '" + c.name + "' gives non-finite equations";
+  }
+  std::vector<double> rows;
+  for (std::size_t fi = 0; fi < forces.size(); ++fi) {
+    const ForceEntry& fe = forces[fi];
+    rows.assign(static_cast<std::size_t>(fe.state_count), 0.0);
+    evaluate_element(fi, t, y, yp, rows.data());
+    const std::string who = "force element '" + fe.name + "' (" + fe.element->type() + ")";
+    for (std::size_t k = 0; k < fe.markers.size(); ++k) {
+      const Wrench& wr = w.wrenches[fi][k];
+      if (!finite(wr.force) || !finite(wr.torque))
+        return who + " gives a non-finite " + (finite(wr.force) ? "torque" : "force") + " at its marker " +
+               std::to_string(k);
+    }
+    for (int s = 0; s < fe.state_count; ++s)
+      if (!std::isfinite(rows[s]))
+        return who + " gives a non-finite row for its state " + fe.element->states()[s].name;
+  }
+  for (int k = 0; k < size_; ++k) {
+    if (!std::isfinite(y[k])) return "the state " + describe_state(k) + " is " + value(y[k]);
+    if (!std::isfinite(yp[k])) return "the rate of the state " + describe_state(k) + " is " + value(yp[k]);
+  }
+  // The rest (bodies' inertia and kinematics, the clock, the energy rows): the first non-finite row.
+  Eigen::VectorXd f(size_);
+  residual(t, y, yp, f.data());
+  for (int k = 0; k < size_; ++k)
+    if (!std::isfinite(f[k])) return "the equation of " + describe_state(k) + " is " + value(f[k]);
+  return {};
 }
 
 // Uses the wrenches left in the workspace by the residual's element loop.
@@ -804,6 +857,9 @@ void Model::consistent_initial_state(double t0, Eigen::VectorXd& y, Eigen::Vecto
   if (n_eq_ > 0) {
     double initial_violation = 0;
     for (int it = 0; it < 50; ++it) {
+      // Dense decompositions of the whole constraint matrix: seconds on a large model, so a signal is heard
+      // (solve polls the flag, the results file does not exist yet: nothing to keep).
+      if (interrupt_requested()) throw Interrupted("interrupted while assembling the initial positions");
       constraint_matrix(t0, y.data(), cm, phi, phi_t);
       if (it == 0) initial_violation = phi.lpNorm<Eigen::Infinity>();
       if (phi.lpNorm<Eigen::Infinity>() < 1e-13) break;
@@ -905,6 +961,8 @@ void Model::consistent_initial_state(double t0, Eigen::VectorXd& y, Eigen::Vecto
         const int k = fe.state_offset + s;
         double& v = differential ? yp[k] : y[k];
         for (int it = 0; it < 20; ++it) {
+          if (interrupt_requested())
+            throw Interrupted("interrupted while finding the initial element states");
           residual(t0, y.data(), yp.data(), f0.data());
           if (std::abs(f0[k]) < 1e-14 * std::max(1.0, std::abs(v))) break;
           const double h = 1e-7 * std::max(1.0, std::abs(v));

@@ -116,6 +116,11 @@ class Model {
   void residual(double t, const double* y, const double* yp, double* f) const;
   /// dF/dy + cj dF/dy' at (t, y, y'), in the order of jacobian_pattern()'s entries.
   void jacobian(double t, const double* y, const double* yp, double cj, std::vector<double>& values) const;
+  /// When F(t, y, y') or the state is not finite: what makes it so, for the error message ("the state body
+  /// 'crank' w[2] is inf", "force element 'mount' (maxwell) gives a non-finite force at marker 0"); empty if
+  /// all is finite. Re-evaluates the contributions one by one, so it is called only once a residual was
+  /// found non-finite (the integrators check the assembled residual, which costs nothing extra).
+  std::string non_finite_culprit(double t, const double* y, const double* yp) const;
   /// The gaps of all contact elements (> 0 open): the integrators locate their sign changes.
   void gaps(double t, const double* y, const double* yp, double* out) const;
 

@@ -67,7 +67,7 @@ std::string layout_signature(const Scene& s) {
 }  // namespace
 
 ResultsWriter ResultsWriter::create(const std::filesystem::path& path, const Scene& scene,
-                                    const Provenance& provenance) {
+                                    const Provenance& provenance, const Checkpoint& start) {
   {
     h5::File file = h5::File::create(path);
     h5::Group root = file.root();
@@ -85,10 +85,15 @@ ResultsWriter ResultsWriter::create(const std::filesystem::path& path, const Sce
     }
     if (!scene.marker_names.empty()) root.set_attribute("axes", "global", "markers");
     h5::Group cp = root.create_group("checkpoint");
-    cp.create_appendable_vector("time");
-    cp.create_appendable_vector("samples");
-    cp.create_appendable("y", scene.model.size());
-    cp.create_appendable("yp", scene.model.size());
+    // The first checkpoint goes in before the file appears under its name, so there is never a results file
+    // that --restart refuses (a run killed in its first moments left "running" without a checkpoint).
+    const double no_samples = 0;
+    cp.create_appendable("y", scene.model.size())
+        .append({start.y.data(), static_cast<std::size_t>(start.y.size())});
+    cp.create_appendable("yp", scene.model.size())
+        .append({start.yp.data(), static_cast<std::size_t>(start.yp.size())});
+    cp.create_appendable_vector("samples").append({&no_samples, 1});
+    cp.create_appendable_vector("time").append({&start.time, 1});
     std::vector<std::string> states;
     for (int k = 0; k < scene.model.size(); ++k) states.push_back(scene.model.describe_state(k));
     cp.write("state_names", states);
@@ -123,7 +128,7 @@ ResultsWriter ResultsWriter::reopen(const std::filesystem::path& path, const Sce
   checkpoint.yp = yp.row(last).transpose();
   w.open_datasets(scene);
   for (auto& c : w.channels_) c.dataset.truncate(static_cast<hsize_t>(checkpoint.samples));
-  w.samples_ = checkpoint.samples;
+  w.samples_ = w.written_ = checkpoint.samples;
   root.set_attribute("status", "running");
   return w;
 }
@@ -211,12 +216,17 @@ void ResultsWriter::add_sample(double t, const Scene& scene, const Eigen::Vector
   ++samples_;
 }
 
-void ResultsWriter::flush(const Checkpoint& cp) {
+void ResultsWriter::flush_samples() {
   for (auto& c : channels_) {
     c.dataset.append(c.buffer);
     c.buffer.clear();
     c.dataset.flush();
   }
+  written_ = samples_;
+}
+
+void ResultsWriter::flush(const Checkpoint& cp) {
+  flush_samples();
   h5::Group g = file_->root().open_group("checkpoint");
   // Checkpoint rows: y and y' first, time and the sample count last (a restart reads the shortest).
   auto y = g.open_appendable("y");
@@ -252,7 +262,12 @@ void ResultsWriter::finish(const std::string& status, const std::string& message
   g.set_attribute("wall_s", wall_seconds);
   root.set_attribute("status", status);
   root.set_attribute("message", message);
-  file_->flush();
+  // Checked: the run's failure handler reports a status that did not reach the disk (a full disk).
+  try {
+    file_->flush();
+  } catch (const Error& e) {
+    throw Error(std::string(e.what()) + " (the status \"" + status + "\" did not reach the file)");
+  }
 }
 
 void ResultsWriter::set_drift(double position, double velocity) {

@@ -26,9 +26,11 @@ struct Checkpoint {
 
 class ResultsWriter {
  public:
-  /// A new file at `path` with the layout for `scene` (written complete and renamed into place, then
-  /// reopened for appending).
-  static ResultsWriter create(const std::filesystem::path& path, const Scene& scene, const Provenance& provenance);
+  /// A new file at `path` with the layout for `scene` and a first checkpoint `start` (the consistent state at
+  /// the start time, no samples), written complete and renamed into place, then reopened for appending: a run
+  /// killed at any moment after leaves a file that --restart continues.
+  static ResultsWriter create(const std::filesystem::path& path, const Scene& scene,
+                              const Provenance& provenance, const Checkpoint& start);
   /// Reopen a file of an interrupted run; rows after its last checkpoint are dropped. Error if the file was
   /// written for another scene layout or has no checkpoint.
   static ResultsWriter reopen(const std::filesystem::path& path, const Scene& scene, Checkpoint& checkpoint);
@@ -36,8 +38,13 @@ class ResultsWriter {
   /// Buffer one output sample at time t.
   void add_sample(double t, const Scene& scene, const Eigen::VectorXd& y, const Eigen::VectorXd& yp);
   long samples() const { return samples_; }
+  /// Samples buffered in memory, not yet on disk.
+  long buffered() const { return samples_ - written_; }
   /// Write the buffered samples and a checkpoint (t, y, y') to disk.
   void flush(const Checkpoint& checkpoint);
+  /// Write the buffered samples without a checkpoint (memory bound inside a long integrator step, and the
+  /// failure path when the state is not finite); a restart drops them, back to the last checkpoint.
+  void flush_samples();
   /// Final status ("complete", "interrupted", "failed"), a message, and the integrator statistics.
   void finish(const std::string& status, const std::string& message, const IntegratorStatistics& stats,
               double wall_seconds);
@@ -59,6 +66,7 @@ class ResultsWriter {
   std::vector<Wrench> wrenches_;
   std::vector<double> state_rows_, values_;
   long samples_ = 0;
+  long written_ = 0;  // samples on disk
 };
 
 }  // namespace nvh::solve

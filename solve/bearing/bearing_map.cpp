@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "common/error.hpp"
+#include "common/interrupt.hpp"
 #include "solve/bearing/journal_bearing.hpp"
 
 namespace nvh::bearing {
@@ -73,6 +74,9 @@ std::vector<MapRow> bearing_map(const BearingSpec& spec, double omega,
   std::vector<MapRow> rows;
   double attitude = 0.5 * kPi;  // first guess; each row starts from the previous one
   for (double eps : eccentricities) {
+    // Outside solve's run a signal ends the process at once; called from a graceful context, it is heard
+    // here.
+    if (interrupt_requested()) throw Interrupted("bearing map: interrupted");
     if (!(eps > 0 && eps < 1)) {
       std::ostringstream msg;
       msg << "bearing map: eccentricity ratio " << eps << " is outside (0, 1); expected 0 < eps < 1";

@@ -10,6 +10,7 @@
 #include "common/error.hpp"
 #include "common/hdf5.hpp"
 #include "common/input.hpp"
+#include "common/interrupt.hpp"
 #include "common/log.hpp"
 #include "common/output_path.hpp"
 #include "common/provenance.hpp"
@@ -166,6 +167,9 @@ int bearing_map_main(int argc, char** argv) {
     if (csv) csv->commit();
     log.info("wrote " + output_file + (csv_file.empty() ? "" : " and " + csv_file));
     return 0;
+  } catch (const Interrupted& e) {
+    log.error(e.what());
+    return static_cast<int>(ExitCode::kInterrupted);
   } catch (const Error& e) {
     log.error(e.what());
     return static_cast<int>(ExitCode::kFailure);

@@ -327,7 +327,39 @@ void FilmSolver::cold_start(Eigen::VectorXd& P, Eigen::VectorXd& r) {
   }
 }
 
+// With Barus viscosity the discrete equations also have spurious solutions: at high pressure the fluidity
+// exp(-alpha p) vanishes, the fluxes with it, and the mass balance holds at any pressure. Newton, and
+// Fischer-Burmeister's line search too (its merit keeps decreasing on the way), can run there: at eps 0.8 of
+// the example in docs/bearing.md section 6 it "converged" to P ~ 1e32 (alpha p ~ 1e32), from which the next
+// solves failed. Such a result, or a failed solve, is solved again by continuation in alpha: from the cold
+// start (isoviscous full film), alpha raised in kBarusSteps steps, each solve warm-started from the last,
+// which follows the physical branch from the isoviscous solution.
 int FilmSolver::solve(Eigen::VectorXd& P, Eigen::VectorXd& r, const FiniteSolverOptions& options) {
+  // mu / mu0 = exp(alpha p) beyond e^30 (1e13): no longer a lubricant, and beyond Barus's law by far.
+  constexpr double kRunaway = 30;
+  constexpr int kBarusSteps = 8;
+  const double barus = problem.barus;
+  auto runaway = [&] { return barus > 0 && barus * P.maxCoeff() > kRunaway; };
+  barus_isoviscous_ = 0;
+  const int direct = solve_newton(P, r, options);
+  if (barus <= 0 || (direct > 0 && !runaway())) return direct;
+  int iterations = std::abs(direct), factorizations = factorizations_;
+  cold_start(P, r);
+  bool ok = true;
+  for (int k = 0; k <= kBarusSteps && ok; ++k) {
+    problem.barus = barus * k / kBarusSteps;
+    const int it = solve_newton(P, r, options);
+    iterations += std::abs(it);
+    factorizations += factorizations_;
+    ok = it > 0 && !runaway();
+    if (k == 0) barus_isoviscous_ = barus * P.maxCoeff();
+  }
+  problem.barus = barus;
+  factorizations_ = factorizations;
+  return ok ? iterations : -iterations;
+}
+
+int FilmSolver::solve_newton(Eigen::VectorXd& P, Eigen::VectorXd& r, const FiniteSolverOptions& options) {
   if (!linear_) build_pattern();
   const int n = cells();
   FilmAssembly& a = last_;
@@ -345,6 +377,17 @@ int FilmSolver::solve(Eigen::VectorXd& P, Eigen::VectorXd& r, const FiniteSolver
   factorizations_ = 0;
   Eigen::VectorXd y(n), Pt(n), rt(n);
   FilmAssembly trial;
+  // The fall-back from the active-set form (whole steps, no line search) to Fischer-Burmeister with its line
+  // search, before active_set_iterations when the active-set matrix is singular (its 0/1 complementarity rows
+  // can leave cells without a pressure equation). It starts again from this solve's start.
+  const Eigen::VectorXd P_start = P, r_start = r;
+  bool tried_cold_start = false;
+  auto fall_back = [&] {
+    min_complementarity_ = false;
+    P = P_start, r = r_start;
+    last_step = 0;
+    chord_allowed = false;
+  };
   for (; iteration < options.max_iterations && !converged; ++iteration) {
     if (iteration == options.active_set_iterations) min_complementarity_ = false;
     assemble(P, r, true, a);
@@ -355,7 +398,20 @@ int FilmSolver::solve(Eigen::VectorXd& P, Eigen::VectorXd& r, const FiniteSolver
       chord = false;
       reduce(a, rhs, true);  // another active set: the factorized matrix is for other unknowns
     }
-    if (!chord && !factorize_reduced(a)) break;
+    if (!chord && !factorize_reduced(a)) {
+      // A singular matrix: the fall-back below (breaking out here ended the solve without trying it, at eps
+      // 0.9 in the example of docs/bearing.md section 6); in the Fischer-Burmeister form, once from the cold
+      // start.
+      if (min_complementarity_) {
+        fall_back();
+        continue;
+      }
+      if (tried_cold_start) break;
+      tried_cold_start = true;
+      cold_start(P, r);
+      last_step = 0;
+      continue;
+    }
     last_factorized_ = !chord;
     y = rhs;
     linear_->lu.solve(y);

@@ -114,6 +114,11 @@ class FilmSolver {
   bool last_step_was_factorized() const { return last_factorized_; }
   /// Numeric factorizations made by the last solve() (fewer than its iterations with reuse_factorization).
   int factorizations() const { return factorizations_; }
+  /// When the last solve() needed the Barus continuation: alpha times the peak of its isoviscous solution
+  /// (nondimensional), else 0. In 1D the Barus pressure is -ln(1 - alpha q) / alpha of the isoviscous q,
+  /// which has no bound once alpha q >= 1: a failure with this >= 1 is the piezoviscous runaway, not the
+  /// solver.
+  double barus_isoviscous_product() const { return barus_isoviscous_; }
   /// Assembles and factorizes at (P, r) (min form of the complementarity), so that last_step() and
   /// solve_last() belong to this state. False if the matrix is singular.
   bool factorize_at(const Eigen::VectorXd& P, const Eigen::VectorXd& r);
@@ -125,6 +130,9 @@ class FilmSolver {
 
  private:
   struct Linear;
+  /// The semismooth Newton solve of solve() at the current coefficients (solve() adds the Barus
+  /// continuation).
+  int solve_newton(Eigen::VectorXd& P, Eigen::VectorXd& r, const FiniteSolverOptions& options);
   void build_pattern();
   double merit(const FilmAssembly& a) const;
   /// The reduced Newton system at `a`: the right-hand side, and the matrix's values when `matrix`.
@@ -136,6 +144,7 @@ class FilmSolver {
   bool min_complementarity_ = false;  // this Newton iteration: min(P, r) = 0 instead of Fischer-Burmeister
   bool last_factorized_ = false;      // see last_step_was_factorized()
   int factorizations_ = 0;            // see factorizations()
+  double barus_isoviscous_ = 0;       // see barus_isoviscous_product()
   double chord_rate_ = 1;             // contraction of the last two simplified steps (1: none measured yet)
   FilmAssembly last_;
   std::unique_ptr<Linear> linear_;

@@ -134,7 +134,15 @@ FilmResult FiniteBearing::evaluate(const Kinematics& k, Detail detail) {
     std::ostringstream msg;
     msg << "bearing '" << spec_.name << "': the finite-bearing Newton solve did not converge in "
         << -iterations << " iterations at e = (" << k.e.x() << ", " << k.e.y() << ") m, de/dt = ("
-        << k.e_dot.x() << ", " << k.e_dot.y() << ") m/s; try a finer grid or check the input";
+        << k.e_dot.x() << ", " << k.e_dot.y() << ") m/s";
+    if (film_.barus_isoviscous_product() >= 1)
+      msg << "; with Barus viscosity, alpha x the isoviscous peak pressure is "
+          << film_.barus_isoviscous_product()
+          << " >= 1: the piezoviscous pressure has no bound in this model (a lower eccentricity, barus or "
+             "speed; "
+             "docs/bearing.md section 11)";
+    else
+      msg << "; try a finer grid or check the input";
     throw Error(msg.str());
   }
   has_solution_ = true;

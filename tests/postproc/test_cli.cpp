@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -151,6 +152,40 @@ TEST_F(postproc_cli, OctaveOrdersAndStatsWriteTheirGroups) {
   EXPECT_NEAR(g.read_double("band_rms"), 0.2 / std::sqrt(2.0), 1e-3);
   // RMS of three incoherent components: sqrt(1/2 + 0.25/2 + 0.04/2).
   EXPECT_NEAR(g.read_double("rms"), std::sqrt(0.5 + 0.125 + 0.02), 5e-3);
+}
+
+// Options that made the tools run without bound or abort (issue 18, item 7) are refused before any FFT plan
+// or allocation, naming the option and the limit: at most 16 x the signal's samples after resampling to angle
+// (here 50 cycles of 720 deg in 16,385 samples), at most 2^24 samples per cycle, Leq intervals of 10 samples
+// or more. Each refusal is immediate (the FFTW abort of 2^31 - 1 points, the unbounded runs of --cycle 0.01
+// and --interval 1e-9).
+TEST_F(postproc_cli, OptionsThatRanWithoutBoundAreRefusedNamingTheLimit) {
+  write_results();
+  const auto start = std::chrono::steady_clock::now();
+  struct Case {
+    std::string args, expected;
+  };
+  const Case cases[] = {
+      {"orders --samples-per-cycle 2147483647", "--samples-per-cycle 2147483647: more than 262160"},
+      {"orders --samples-per-cycle 1000000", "--samples-per-cycle 1000000: more than 262160"},
+      {"orders --samples-per-cycle 8192", "expected at most 5243 samples per cycle"},
+      {"orders --cycle 0.01", "--cycle 0.01 deg: signal"},
+      {"stats --harmonics 1 --cycle 0.01", "--cycle 0.01 deg: signal"},
+      {"octave --fmax 1000 --interval 1e-9", "--interval 1e-09 s: expected at least"},
+  };
+  for (const Case& c : cases) {
+    const std::string sub = c.args.substr(0, c.args.find(' ')), rest = c.args.substr(c.args.find(' '));
+    const CliRun r = run(sub + " " + signal() + " -o " + out().string() + rest);
+    EXPECT_EQ(r.exit_code, 1) << c.args << ": " << r.output;
+    EXPECT_NE(r.output.find(c.expected), std::string::npos) << c.args << ": " << r.output;
+    EXPECT_TRUE(only_results_left()) << c.args;
+  }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::printf("measured: %zu refusals in %.2f s\n", std::size(cases), seconds);
+  EXPECT_LT(seconds, 30.0);
+  // At the limit's side that is allowed: 5000 samples per cycle (250,000 angle samples) runs.
+  const CliRun ok = run("orders " + signal() + " -o " + out().string() + " --samples-per-cycle 5000 -q");
+  EXPECT_EQ(ok.exit_code, 0) << ok.output;
 }
 
 TEST_F(postproc_cli, BadInputsExitWithOneNameTheInputAndLeaveNoOutput) {
