@@ -114,7 +114,9 @@ struct OrderTracker::Impl {
       : fs(fs_), options(o), m(m_), dtheta(o.cycle_deg / m_), plan(m_) {
     const double nyquist_order = 0.5 * m * 360.0 / options.cycle_deg;
     const double max_order = options.max_order > 0.0 ? options.max_order : 0.8 * nyquist_order;
-    max_k = std::min(m / 2 - 1, static_cast<int>(std::floor(max_order * options.cycle_deg / 360.0 + 1e-9)));
+    // In double before the cast: a --max-order of 1e308 would overflow an int (undefined behaviour).
+    max_k = static_cast<int>(
+        std::min(static_cast<double>(m / 2 - 1), std::floor(max_order * options.cycle_deg / 360.0 + 1e-9)));
   }
 
   double at(std::int64_t i) const { return x[static_cast<std::size_t>(i - base)]; }

@@ -48,7 +48,16 @@ int segment_length_for(const SpectrumOptions& options, double fs, std::int64_t s
     n = 1;
     while (static_cast<double>(n) < fs / options.resolution_hz - 1e-9 && n < (1 << 30)) n *= 2;
   }
-  if (n < 2) throw Error("spectrum: segment length must be >= 2 samples");
+  if (n < 2) {
+    std::ostringstream msg;
+    if (options.segment_length > 0) {
+      msg << "--segment " << n << ": a segment needs at least 2 samples";
+    } else {
+      msg << "--resolution " << options.resolution_hz << " Hz is coarser than the sample rate allows: at most "
+          << fs / 2 << " Hz (half the sample rate " << fs << " Hz of signal '" << signal_name << "')";
+    }
+    throw Error(msg.str());
+  }
   if (n > signal_size) {
     std::ostringstream msg;
     msg << "signal '" << signal_name << "': " << signal_size << " samples (" << signal_size / fs

@@ -172,6 +172,8 @@ TEST_F(postproc_cli, OptionsThatRanWithoutBoundAreRefusedNamingTheLimit) {
       {"orders --cycle 0.01", "--cycle 0.01 deg: signal"},
       {"stats --harmonics 1 --cycle 0.01", "--cycle 0.01 deg: signal"},
       {"octave --fmax 1000 --interval 1e-9", "--interval 1e-09 s: expected at least"},
+      // found by the fuzzer (tests/fuzz): a resolution above Nyquist named no option
+      {"spectrum --resolution 1e308", "--resolution 1e+308 Hz is coarser than the sample rate allows"},
   };
   for (const Case& c : cases) {
     const std::string sub = c.args.substr(0, c.args.find(' ')), rest = c.args.substr(c.args.find(' '));
@@ -186,6 +188,10 @@ TEST_F(postproc_cli, OptionsThatRanWithoutBoundAreRefusedNamingTheLimit) {
   // At the limit's side that is allowed: 5000 samples per cycle (250,000 angle samples) runs.
   const CliRun ok = run("orders " + signal() + " -o " + out().string() + " --samples-per-cycle 5000 -q");
   EXPECT_EQ(ok.exit_code, 0) << ok.output;
+  // --max-order beyond an int (the fuzzer's 1.8e308 overflowed the cast to a negative bin count): the orders
+  // stop at the angle's Nyquist order, as for any --max-order above it.
+  const CliRun huge = run("orders " + signal() + " -o " + out().string() + " --max-order 1.7976931348623157e308 -q");
+  EXPECT_EQ(huge.exit_code, 0) << huge.output;
 }
 
 TEST_F(postproc_cli, BadInputsExitWithOneNameTheInputAndLeaveNoOutput) {
