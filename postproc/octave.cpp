@@ -59,7 +59,12 @@ std::vector<Band> fractional_octave_bands(int b, double f_low, double f_high) {
     if (fm >= f_low / slack && fm <= f_high * slack)
       bands.push_back({x, fm, f1, f2, nominal_frequency(fm, b)});
   }
-  if (bands.empty()) throw Error("octave: no band between the given frequencies");
+  if (bands.empty()) {
+    std::ostringstream msg;
+    msg << "octave: no band between --fmin " << f_low << " Hz and --fmax " << f_high
+        << " Hz (--fmax defaults to 10 kHz or the highest band below half the sample rate)";
+    throw Error(msg.str());
+  }
   return bands;
 }
 

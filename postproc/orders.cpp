@@ -222,7 +222,7 @@ namespace {
 // Checked before the FFT plan is made (FFTW aborted on 2^31 - 1 points, the plan was made before this check).
 int checked_samples_per_cycle(double fs, const OrderOptions& options, int m) {
   if (m < 8 || m > kMaxSamplesPerCycle)
-    throw Error("orders: samples per cycle " + std::to_string(m) + ": expected 8 to " +
+    throw Error("orders: --samples-per-cycle " + std::to_string(m) + ": expected 8 to " +
                 std::to_string(kMaxSamplesPerCycle));
   if (!(std::isfinite(options.cycle_deg) && options.cycle_deg > 0))
     throw Error("orders: the cycle must be a finite angle > 0 deg");

@@ -64,12 +64,23 @@ ParsedAddress parse_address(const std::string& address) {
               "tells the format)");
 }
 
+// Samples above this magnitude are refused: every analysis sums squares (RMS, power spectra, levels), and the
+// square of 1e155 overflows a double. No physical signal in SI units comes near it.
+constexpr double kMaxSampleMagnitude = 1e150;
+
 void check_finite(std::span<const double> values, std::int64_t offset, const std::string& address) {
   for (std::size_t i = 0; i < values.size(); ++i) {
     if (!std::isfinite(values[i])) {
       std::ostringstream msg;
       msg << "signal '" << address << "': sample " << offset + static_cast<std::int64_t>(i) << " is "
           << values[i] << "; expected finite numbers (NaN or infinite samples cannot be analysed)";
+      throw Error(msg.str());
+    }
+    if (std::abs(values[i]) > kMaxSampleMagnitude) {
+      std::ostringstream msg;
+      msg << "signal '" << address << "': sample " << offset + static_cast<std::int64_t>(i) << " is "
+          << values[i] << "; expected a magnitude up to " << kMaxSampleMagnitude
+          << " (its square, in every RMS, spectrum and level, would overflow)";
       throw Error(msg.str());
     }
   }

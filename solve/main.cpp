@@ -2,6 +2,7 @@
 // A thin CLI over the solve library (solve/run.hpp); `solve bearing-map` is the bearing characteristics tool.
 #include <CLI/CLI.hpp>
 #include <cstring>
+#include <filesystem>
 #include <iostream>
 #include <sstream>
 
@@ -133,7 +134,11 @@ int main(int argc, char** argv) {
     log.error(std::string(e.what()) + "; nothing written");
     return static_cast<int>(ExitCode::kInterrupted);
   } catch (const Error& e) {
-    log.error(e.what());
+    // Every message names the scene file: a model that cannot be assembled or a run that fails (a time and an
+    // element) come from the scene's numbers, and a batch log of many scenes must point at the one to change.
+    const std::string name = std::filesystem::path(scene_file).filename().string();
+    const std::string message = e.what();
+    log.error(message.find(name) == std::string::npos ? scene_file + ": " + message : message);
     return static_cast<int>(ExitCode::kFailure);
   } catch (const std::exception& e) {
     log.error(std::string("unexpected failure: ") + e.what());

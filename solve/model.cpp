@@ -864,12 +864,20 @@ void Model::consistent_initial_state(double t0, Eigen::VectorXd& y, Eigen::Vecto
       if (it == 0) initial_violation = phi.lpNorm<Eigen::Infinity>();
       if (phi.lpNorm<Eigen::Infinity>() < 1e-13) break;
       apply_velocity_step(-cm.completeOrthogonalDecomposition().solve(phi));
-      if (it == 49)
-        throw Error(
-            "the initial positions cannot be assembled: the joints' position equations are "
-            "still violated by " +
-            std::to_string(phi.lpNorm<Eigen::Infinity>()) +
-            " after 50 corrections (check the markers' positions and axes)");
+      if (it == 49) {
+        // Name the joint (and equation) violated most: that is where the markers do not fit together.
+        std::ostringstream msg;
+        msg << "the initial positions cannot be assembled: the joints' position equations are still violated by "
+            << phi.lpNorm<Eigen::Infinity>() << " after 50 corrections";
+        Eigen::Index worst = 0;
+        phi.cwiseAbs().maxCoeff(&worst);
+        for (const auto& c : constraints)
+          if (worst >= c.first_row && worst < c.first_row + c.constraint->size())
+            msg << ", most in " << c.constraint->type() << " '" << c.name << "' ("
+                << c.constraint->equation_names()[worst - c.first_row] << ")";
+        msg << " (check the markers' positions and axes)";
+        throw Error(msg.str());
+      }
     }
     if (initial_violation > 1e-9)
       log.info("initial positions assembled: joint violation " + std::to_string(initial_violation) + " -> " +

@@ -128,8 +128,17 @@ int bearing_map_main(int argc, char** argv) {
     const double omega = rpm * 2 * std::numbers::pi / 60;
     log.info("bearing '" + spec.name + "' (" + to_string(spec.model) + "): " +
              std::to_string(eccentricities.size()) + " eccentricities at " + std::to_string(rpm) + " rpm");
-    const std::vector<MapRow> rows =
-        bearing_map(spec, omega, eccentricities, load_angle_deg * std::numbers::pi / 180);
+    const std::vector<MapRow> rows = [&] {
+      try {
+        return bearing_map(spec, omega, eccentricities, load_angle_deg * std::numbers::pi / 180);
+      } catch (const Interrupted&) {
+        throw;
+      } catch (const Error& e) {
+        // A film that cannot carry the load (no solution of the model) comes from the file's numbers: name it,
+        // so a log of many maps points at the file to change.
+        throw Error(input_file + ": " + e.what());
+      }
+    }();
 
     h5::File file = h5::File::create(output_file);
     h5::Group out = file.root();

@@ -160,6 +160,7 @@ TEST(bearing_map, DocumentedExampleSolvesAndMatchesAFinerGrid) {
   EXPECT_EQ(run({toml.string(), "-o", beyond.string(), "--eccentricities", "0.95"}), 1);
   const std::string err = testing::internal::GetCapturedStderr();
   EXPECT_NE(err.find("the piezoviscous pressure has no bound"), std::string::npos) << err;
+  EXPECT_NE(err.find(toml.string() + ": bearing"), std::string::npos) << "names the bearing file: " << err;
   EXPECT_FALSE(std::filesystem::exists(beyond));
 }
 

@@ -159,6 +159,11 @@ TEST_F(postproc_signal, NonFiniteCsvNamesTheFileAndLine) {
   std::ofstream(path) << "time,acc\n0,1\n1e-320,2\n2e-320,3\n";
   const std::string e = error_of(path.string() + ":acc");
   EXPECT_NE(e.find("gives no finite sample rate"), std::string::npos) << e;
+  // Finite but beyond squaring (the fuzzer's 1e308 sample gave an RMS of inf with exit 0): refused by name.
+  std::ofstream(path) << "time,acc\n0,1\n0.002,-1e308\n0.004,3\n";
+  const std::string big = error_of(path.string() + ":acc");
+  EXPECT_NE(big.find("sample 1 is -1e+308; expected a magnitude up to 1e+150"), std::string::npos) << big;
+  EXPECT_NE(big.find("meas.csv:acc"), std::string::npos) << big;
 }
 
 // Round trip: ASCII keeps 13 significant digits (E20.12), binary is exact; the sample interval survives

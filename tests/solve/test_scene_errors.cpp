@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstdlib>
 #include <fstream>
+#include <iterator>
 
 #include "common/error.hpp"
 #include "solve/element_registry.hpp"
@@ -75,6 +76,53 @@ TEST(SolveSceneErrors, CliExitsOneAndWritesNothing) {
   const int status = std::system(cmd.c_str());
   EXPECT_EQ(WEXITSTATUS(status), 1);
   EXPECT_FALSE(std::filesystem::exists(out));
+}
+
+// Joints whose markers cannot meet (an arm of 0.5 m between pivots 1 m apart) fail the initial assembly; the
+// error names the scene file and the joint violated most (the fuzzer found it naming neither), exit 1.
+TEST(SolveSceneErrors, JointsThatCannotBeAssembledNameTheSceneAndTheJoint) {
+  const auto scene = testing::temp_path("misfit.toml");
+  const auto out = testing::temp_path("misfit.h5");
+  const auto log = testing::temp_path("misfit.log");
+  std::ofstream(scene) << R"(
+[[body]]
+name = "ground"
+type = "ground"
+  [[body.marker]]
+  name = "a"
+  [[body.marker]]
+  name = "b"
+  at = [1, 0, 0]
+[[body]]
+name = "arm"
+type = "rigid"
+mass = 1.0
+inertia = [0.1, 0.1, 0.1]
+  [[body.marker]]
+  name = "pivot"
+  [[body.marker]]
+  name = "end"
+  at = [0.5, 0, 0]
+[[joint]]
+name = "left"
+type = "spherical"
+i = "arm.pivot"
+j = "ground.a"
+[[joint]]
+name = "right"
+type = "spherical"
+i = "arm.end"
+j = "ground.b"
+)" << kClock;
+  const std::string cmd = std::string(NVH_BINARY_DIR) + "/solve/solve " + scene.string() + " -o " + out.string() +
+                          " -q 2>" + log.string();
+  const int status = std::system(cmd.c_str());
+  EXPECT_EQ(WEXITSTATUS(status), 1);
+  EXPECT_FALSE(std::filesystem::exists(out));
+  std::ifstream in(log);
+  const std::string err((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(err.find(scene.string() + ": the initial positions cannot be assembled"), std::string::npos) << err;
+  EXPECT_NE(err.find("most in spherical '"), std::string::npos) << err;
 }
 
 // The accepted element types come from the registry: an unknown type's error lists every registered [[force]]
