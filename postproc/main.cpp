@@ -1,6 +1,7 @@
 // postproc: spectra, fractional-octave levels, order analysis and statistics of signals from solve's results,
 // any HDF5 or CSV file, or measurements in UFF58. A thin CLI over postproc/commands.hpp.
 #include <CLI/CLI.hpp>
+#include <cmath>
 #include <cstdlib>
 #include <iostream>
 
@@ -109,8 +110,8 @@ int main(int argc, char** argv) {
   OctaveCommand octave;
   CLI::App* o = app.add_subcommand("octave", "fractional-octave band levels (IEC 61260-1), A-weighting, Leq");
   add_common(o, octave.common, plot_dir, csv_dir);
-  o->add_option("--fraction", octave.fraction, "b of 1/b-octave bands: 1, 3 (default), 6, 12, 24")
-      ->check(CLI::PositiveNumber);
+  o->add_option("--fraction", octave.fraction, "b of 1/b-octave bands: 1, 3 (default), 6, 12, 24 (at most 48)")
+      ->check(CLI::Range(1, 48));
   o->add_option("--fmin", octave.fmin_hz, "lowest band (nominal mid-band), Hz (default 20)")
       ->check(CLI::PositiveNumber);
   o->add_option("--fmax", octave.fmax_hz, "highest band, Hz (default: 10000 or the highest below Nyquist)")
@@ -166,6 +167,18 @@ int main(int argc, char** argv) {
 
   try {
     app.parse(argc, argv);
+    // CLI11 reads "nan" and "inf" as numbers, and NaN passes every range check: every number given on the
+    // command line must be finite (--campbell-fmax nan sized a vector from NaN).
+    for (const CLI::App* sub : app.get_subcommands()) {
+      for (const CLI::Option* option : sub->get_options()) {
+        if (option->get_type_name().rfind("FLOAT", 0) != 0) continue;
+        for (const std::string& text : option->results()) {
+          const double value = std::strtod(text.c_str(), nullptr);
+          if (!std::isfinite(value))
+            throw CLI::ValidationError(option->get_name(), "'" + text + "' is not a finite number");
+        }
+      }
+    }
   } catch (const CLI::ParseError& e) {
     const int code = app.exit(e);
     return code == 0 ? 0 : static_cast<int>(ExitCode::kUsage);

@@ -194,6 +194,26 @@ TEST_F(postproc_cli, OptionsThatRanWithoutBoundAreRefusedNamingTheLimit) {
   EXPECT_EQ(huge.exit_code, 0) << huge.output;
 }
 
+// Non-finite numbers on the command line (CLI11 reads "nan" and "inf"; NaN passes every range check) and
+// absurd --fraction values are usage errors naming the option (the fuzzer's --campbell-fmax nan sized a
+// vector from NaN; --fraction 2147483647 left no band and named the wrong options).
+TEST_F(postproc_cli, NonFiniteOptionValuesAreUsageErrorsNamingTheOption) {
+  write_results();
+  const std::pair<std::string, std::string> cases[] = {
+      {"orders --campbell --campbell-fmax nan", "--campbell-fmax: 'nan' is not a finite number"},
+      {"spectrum --start -inf", "--start: '-inf' is not a finite number"},
+      {"stats --band nan 3", "--band: 'nan' is not a finite number"},
+      {"octave --fraction 2147483647", "--fraction: Value 2147483647 not in range 1 to 48"},
+  };
+  for (const auto& [args, expected] : cases) {
+    const std::string sub = args.substr(0, args.find(' ')), rest = args.substr(args.find(' '));
+    const CliRun r = run(sub + " " + signal() + " -o " + out().string() + rest);
+    EXPECT_EQ(r.exit_code, 2) << args << ": " << r.output;
+    EXPECT_NE(r.output.find(expected), std::string::npos) << args << ": " << r.output;
+    EXPECT_TRUE(only_results_left()) << args;
+  }
+}
+
 TEST_F(postproc_cli, BadInputsExitWithOneNameTheInputAndLeaveNoOutput) {
   write_results();
   CliRun r =
