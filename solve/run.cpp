@@ -190,7 +190,7 @@ RunSummary run_scene(Scene& scene, const RunOptions& options, const Provenance& 
     try {
       integrator->state(yc, ypc);
       if (yc.allFinite() && ypc.allFinite()) {
-        checkpoint();
+        checkpoint_at(integrator->time(), yc, ypc);
         kept = "the " + std::to_string(k) + " samples before are kept in " + options.output.string();
       } else {  // no checkpoint at a non-finite state: a restart goes back to the last good one
         writer->flush_samples();

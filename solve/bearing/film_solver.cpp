@@ -380,11 +380,11 @@ int FilmSolver::solve_newton(Eigen::VectorXd& P, Eigen::VectorXd& r, const Finit
   // The fall-back from the active-set form (whole steps, no line search) to Fischer-Burmeister with its line
   // search, before active_set_iterations when the active-set matrix is singular (its 0/1 complementarity rows
   // can leave cells without a pressure equation). It starts again from this solve's start.
-  const Eigen::VectorXd P_start = P, r_start = r;
+  P_start_ = P, r_start_ = r;  // sized at the first solve, reused after
   bool tried_cold_start = false;
   auto fall_back = [&] {
     min_complementarity_ = false;
-    P = P_start, r = r_start;
+    P = P_start_, r = r_start_;
     last_step = 0;
     chord_allowed = false;
   };

@@ -147,6 +147,7 @@ class FilmSolver {
   double barus_isoviscous_ = 0;       // see barus_isoviscous_product()
   double chord_rate_ = 1;             // contraction of the last two simplified steps (1: none measured yet)
   FilmAssembly last_;
+  Eigen::VectorXd P_start_, r_start_;  // solve_newton's start, for its fall-back (kept: no allocation per solve)
   std::unique_ptr<Linear> linear_;
 };
 
