@@ -118,4 +118,17 @@ void AngleDriver::evaluate(double t, const MarkerMotion& i, const MarkerMotion& 
   out.phi_t[0] = xi.dot(-s * yj - c * xj) * rate_(t);
 }
 
+
+// phi = z_j . d - offset - s(theta(t)), d = p_i - p_j. Rates: d' = v_i - v_j, z_j' = omega_j x z_j, so
+// (z_j . d)' = z_j . (v_i - v_j) + omega_j . (z_j x d); phi_t = -s'(theta) theta'.
+void LiftDriver::evaluate(double t, const MarkerMotion& i, const MarkerMotion& j, ConstraintEquations& out) const {
+  const Vec3 z = j.axes.col(2), d = i.position - j.position;
+  const auto [s, ds] = lift_(theta_(t));
+  out.phi[0] = z.dot(d) - offset_ - s;
+  out.di.block<1, 3>(0, 0) = z.transpose();
+  out.dj.block<1, 3>(0, 0) = -z.transpose();
+  out.dj.block<1, 3>(0, 3) = z.cross(d).transpose();
+  out.phi_t[0] = -ds * rate_(t);
+}
+
 }  // namespace nvh::solve

@@ -67,4 +67,27 @@ class AngleDriver final : public Constraint {
   std::function<double(double)> rate_;
 };
 
+/// Prescribed lift along the z axis of marker j (a kinematic cam, docs/valvetrain.md): the distance
+///   z_j . (p_i - p_j) = offset + s(theta(t)),
+/// s the lift of a cam profile against the cam angle theta(t) (rad), theta' its speed; the offset is the
+/// initial distance minus the initial lift, so the start is consistent. Use with a prismatic joint (a lifter in
+/// its bore) or on any body whose other motions are held.
+class LiftDriver final : public Constraint {
+ public:
+  /// lift(theta) returns {s (m), s' (m/rad)}; theta(t) (rad) and its rate (rad/s).
+  LiftDriver(std::function<std::pair<double, double>(double)> lift, std::function<double(double)> theta,
+             std::function<double(double)> theta_rate, double offset)
+      : lift_(std::move(lift)), theta_(std::move(theta)), rate_(std::move(theta_rate)), offset_(offset) {}
+  std::string type() const override { return "lift-driver"; }
+  int size() const override { return 1; }
+  std::vector<std::string> equation_names() const override { return {"lift"}; }
+  void evaluate(double t, const MarkerMotion& i, const MarkerMotion& j, ConstraintEquations& out) const override;
+
+ private:
+  std::function<std::pair<double, double>(double)> lift_;
+  std::function<double(double)> theta_;
+  std::function<double(double)> rate_;
+  double offset_;
+};
+
 }  // namespace nvh::solve

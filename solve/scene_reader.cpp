@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "common/input.hpp"
+#include "solve/cam/cam_profile.hpp"
 #include "solve/element_registry.hpp"
 #include "solve/flexible_body.hpp"
 #include "solve/scene.hpp"
@@ -210,14 +211,16 @@ class SceneReader {
 };
 
 void SceneReader::read_driver(const Table& t) {
-  std::vector<std::string> types = {"speed"};
+  std::vector<std::string> types = {"speed", "lift"};
   for (const auto& n : builtin_elements().names("driver")) types.push_back(n);
   const std::string type = t.choice("type", types);
-  if (type != "speed") return read_element(t, "driver");  // a torque-speed curve: a force element
+  if (type != "speed" && type != "lift") return read_element(t, "driver");  // a torque-speed curve: a force element
   const std::string name = t.name("name");
   const MarkerRef i = marker(t, "i"), j = marker(t, "j");
-  // Prescribed speed: the angle theta(t) = theta0 + integral of omega(t); theta0 is the initial angle.
-  const double theta0 = relative_angle(initial_motion(i), initial_motion(j));
+  // Prescribed speed: the angle theta(t) = theta0 + integral of omega(t); theta0 is the initial angle of i about
+  // z_j (speed) or `phase_deg`, the cam angle at the start (lift).
+  const double theta0 = type == "speed" ? relative_angle(initial_motion(i), initial_motion(j))
+                                        : t.number_or("phase_deg", 0.0, Range::magnitude(bounds::kAngleDeg)) * kPi / 180;
   std::function<double(double)> theta, rate;
   constexpr double kRpm = 2 * kPi / 60.0;
   if (t.has("rpm") && t.has("table")) t.fail("table", "give either 'rpm' (constant) or 'table' (rpm against time)");
@@ -227,12 +230,24 @@ void SceneReader::read_driver(const Table& t) {
     rate = [=](double) { return w; };
   } else {
     ElementContext context{t, base_, s_.input_files, {}, {}};
-    auto table = std::make_shared<Table1D>(context.table_from("speed driver's rpm(t)"));
+    auto table = std::make_shared<Table1D>(context.table_from(name + "'s rpm(t)"));
     theta = [=](double time) { return theta0 + kRpm * table->integral(time) - kRpm * table->integral(0.0); };
     rate = [=](double time) { return kRpm * (*table)(time); };
   }
+  if (type == "speed") {
+    t.finish();
+    return add_constraint(t, name, std::make_unique<AngleDriver>(theta, rate), i, j);
+  }
+  // A kinematic cam: the follower's lift along z_j from a cam profile (docs/valvetrain.md).
+  std::shared_ptr<const cam::CamProfile> profile = cam::read_cam_profile(t, base_, s_.input_files);
   t.finish();
-  add_constraint(t, name, std::make_unique<AngleDriver>(theta, rate), i, j);
+  const MarkerMotion mi = initial_motion(i), mj = initial_motion(j);
+  const double offset = mj.axes.col(2).dot(mi.position - mj.position) - profile->lift(theta(0.0)).s;
+  auto lift = [profile](double th) {
+    const cam::Lift l = profile->lift(th);
+    return std::pair{l.s, l.ds};
+  };
+  add_constraint(t, name, std::make_unique<LiftDriver>(lift, theta, rate, offset), i, j);
 }
 
 void SceneReader::read_element(const Table& t, const std::string& section) {

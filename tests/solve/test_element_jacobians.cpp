@@ -12,6 +12,7 @@
 
 #include <filesystem>
 #include <map>
+#include <numbers>
 #include <random>
 #include <set>
 #include <sstream>
@@ -19,6 +20,7 @@
 #include <Eigen/Geometry>
 
 #include "common/input.hpp"
+#include "solve/cam/cam_profile.hpp"
 #include "solve/element_registry.hpp"
 
 namespace nvh::solve {
@@ -376,6 +378,56 @@ TEST(ElementJacobians, SpringDampersForReference) {
 
 // Every registered element type has its analytic Jacobian (the journal bearing differentiates its film model
 // partly by differences and is checked in test_jacobian.cpp). A new type needs its keys here.
+// The roller on a cam: the roller's centre placed at a random angle on the pitch curve (cam::pitch_point), pushed
+// in along the normal by 3 mm (the differences step 1e-6 m must be small against it) and moved off the cam's plane, the cam turned and spinning at random,
+// the roller moving at random (pressing and separating slowly, below the clamp of the damping): on the tangent
+// cam's base circle, flanks and nose (the normal turns with the foot, except on the flanks), and on the eccentric.
+TEST(ElementJacobians, RollerCamOnEveryRegionOfTheProfile) {
+  const std::string common = "roller_width = 0.015\nrestitution = 0.7\nroller_radius = 0.012\n";
+  const Built tangent = build("force", "roller-cam",
+                              common + "profile = \"tangent\"\nbase_radius = 0.02\nnose_radius = 0.01\n"
+                                       "lobe_distance = 0.02\n",
+                              {MarkerMotion{}, MarkerMotion{}});
+  const Built eccentric = build("force", "roller-cam", common + "profile = \"eccentric\"\nbase_radius = 0.02\neccentricity = 0.005\n",
+                                {MarkerMotion{}, MarkerMotion{}});
+  const Built linear = build("force", "roller-cam", common + "stiffness = 1e8\nprofile = \"eccentric\"\nbase_radius = 0.02\neccentricity = 0.005\n",
+                             {MarkerMotion{}, MarkerMotion{}});
+  const auto profile_of = [](const std::string& keys) {
+    const input::Document doc = input::Document::parse(keys, "cam.toml");
+    std::vector<std::filesystem::path> files;
+    return cam::read_cam_profile(doc.root(), ".", files);
+  };
+  const auto tangent_profile = profile_of("profile = \"tangent\"\nbase_radius = 0.02\nnose_radius = 0.01\n"
+                                          "lobe_distance = 0.02\nroller_radius = 0.012\n");
+  const auto eccentric_profile =
+      profile_of("profile = \"eccentric\"\nbase_radius = 0.02\neccentricity = 0.005\nroller_radius = 0.012\n");
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const auto place = [&](const cam::CamProfile& profile, double psi) {
+    Point p = two_random(rng, 0.05);
+    MarkerMotion& cam = p.markers[1];
+    const cam::PitchPoint pp = cam::pitch_point(profile, psi);
+    const double depth = 3e-3 * (1.0 + 0.3 * u(rng));  // deep: the differences step is 1e-6 m
+    const Vec3 local(pp.x - depth * pp.nx, pp.y - depth * pp.ny, 0.003 * u(rng));
+    p.markers[0].position = cam.position + cam.axes * local;
+    // the roller's velocity relative to the cam's material point under it: along the normal within 1 mm/s
+    const Vec3 n = cam.axes * Vec3(pp.nx, pp.ny, 0.0);
+    const Vec3 vr = p.markers[0].velocity - cam.velocity - cam.angular_velocity.cross(p.markers[0].position - cam.position);
+    p.markers[0].velocity += (1e-3 * u(rng) - n.dot(vr)) * n;
+    return p;
+  };
+  // Cam angles theta (the lift's; psi = -theta): the nose is at 0, the flanks between about 32 and 60 deg.
+  for (const double deg : {0.0, 15.0, 40.0, -45.0, 120.0, 200.0}) {
+    const double psi = -deg * std::numbers::pi / 180;
+    expect_matches(*tangent.element, place(*tangent_profile, psi), "roller-cam, tangent cam at " + std::to_string(deg));
+    expect_matches(*eccentric.element, place(*eccentric_profile, psi), "roller-cam, eccentric at " + std::to_string(deg));
+    expect_matches(*linear.element, place(*eccentric_profile, psi), "roller-cam, linear law at " + std::to_string(deg));
+  }
+  Point open = place(*eccentric_profile, 0.3);
+  open.markers[0].position = open.markers[1].position + open.markers[1].axes * Vec3(0.06, 0.01, 0.0);  // lifted off
+  expect_matches(*eccentric.element, open, "roller-cam open", false);
+}
+
 TEST(ElementJacobians, EveryRegisteredTypeIsAnalytic) {
   const std::map<std::string, std::string> keys = {
       {"force spring-damper", "k = 1e4\nd = 10\n"},
@@ -385,6 +437,8 @@ TEST(ElementJacobians, EveryRegisteredTypeIsAnalytic) {
       {"force contact", "stiffness = 1e6\nclearance = -0.5\nmu_static = 0.3\n"},
       {"force point-set-contact", "stiffness = 1e6\nclearance = -0.5\nmu_static = 0.3\n"},
       {"force table-force", "table = [[-1.0, 1e4], [1.0, -1e4]]\n"},
+      {"force roller-cam", "roller_width = 0.01\nprofile = \"eccentric\"\nbase_radius = 0.1\neccentricity = 0.02\n"
+                           "roller_radius = 0.02\n"},
       {"force motor", "table = [[-1000.0, 20.0], [3000.0, -5.0]]\n"},
       {"driver motor", "table = [[-1000.0, 20.0], [3000.0, -5.0]]\n"},
       {"load force", "direction = [0, 0, 1]\naxes = \"marker\"\namplitude = 1.0\nfrequency_hz = 10.0\n"},
