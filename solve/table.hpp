@@ -21,6 +21,9 @@ class Table1D {
   double x_min() const { return x_.front(); }
   double x_max() const { return x_.back(); }
   bool empty() const { return x_.empty(); }
+  /// The table's points as given (abscissae strictly increasing).
+  const std::vector<double>& xs() const { return x_; }
+  const std::vector<double>& ys() const { return y_; }
 
  private:
   std::size_t piece(double& x) const;  // wraps x for periodic tables, returns the left index

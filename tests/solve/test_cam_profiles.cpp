@@ -19,6 +19,8 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Dense>
+
 #include "common/error.hpp"
 #include "common/input.hpp"
 #include "solve/cam/cam_profile.hpp"
@@ -42,6 +44,11 @@ std::string error_of(const std::string& text) {
     return e.what();
   }
   return "(no error)";
+}
+
+double wrap(double a) {
+  const double w = std::fmod(a, 2 * kPi);
+  return w < 0 ? w + 2 * kPi : w;
 }
 
 /// The number after `tag` in `msg` (NaN if absent).
@@ -360,6 +367,291 @@ TEST(CamProfile, ReaderLeavesUnknownKeysToTheCaller) {
   }
   t.accept("i");
   EXPECT_NO_THROW(t.finish());
+}
+
+// ============================================================================================ table profile
+
+/// A TOML table cam of `f` (m) sampled every `step_deg` from 0 (inclusive) to 360 (exclusive), lifts in mm.
+std::string table_text(const std::function<double(double)>& f, double step_deg, double rb, double rr) {
+  std::string text = "profile = \"table\"\nlift_scale = 1e-3\nbase_radius = " + std::to_string(rb) +
+                     "\nroller_radius = " + std::to_string(rr) + "\ntable = [\n";
+  char buf[96];
+  for (int k = 0; k * step_deg < 360 - 1e-9; ++k) {
+    std::snprintf(buf, sizeof buf, "[%.17g, %.17g],\n", k * step_deg, f(k * step_deg * kDeg) * 1e3);
+    text += buf;
+  }
+  return text + "]\n";
+}
+
+struct SplineErrors {
+  double s = 0, v = 0, a = 0;
+};
+SplineErrors table_errors(const CamProfile& cam, const CamProfile& exact) {
+  SplineErrors e;
+  for (int k = 0; k < 7200; ++k) {
+    const double theta = 0.05 * k * kDeg;
+    const Lift l = cam.lift(theta), x = exact.lift(theta);
+    e.s = std::max(e.s, std::abs(l.s - x.s));
+    e.v = std::max(e.v, std::abs(l.ds - x.ds));
+    e.a = std::max(e.a, std::abs(l.dds - x.dds));
+  }
+  return e;
+}
+
+TEST(CamProfile, TableOfASmoothLiftIsInterpolatedToTheSplinesErrorBounds) {
+  const double lift = 0.010, width = 140 * kDeg, rb = 0.018, rr = 0.010, nose = 90 * kDeg;
+  const Cos4Cam exact(lift, width, rb, rr, nose);
+  const auto f = [&](double theta) { return exact.lift(theta).s; };
+  const auto cam = read(table_text(f, 1.0, rb, rr));
+  const auto coarse = read(table_text(f, 2.0, rb, rr));
+  EXPECT_EQ(cam->kind(), "table");
+  const SplineErrors e1 = table_errors(*cam, exact), e2 = table_errors(*coarse, exact);
+  // Cubic spline error bounds (C. A. Hall, W. W. Meyer, J. Approx. Theory 16 (1976) 105-122), M4 = max
+  // |s^(4)|: |s - S| <= 5/384 h^4 M4, |s' - S'| <= 1/24 h^3 M4, |s'' - S''| <= 3/8 h^2 M4; M4 = 40 L (pi/W)^4
+  // for cos^4 (cos^4 x = (3 + 4 cos 2x + cos 4x) / 8). h = 1 deg: 1.3e-9 m, 2.4e-7 m/rad, 1.2e-4 m/rad^2.
+  const double m4 = 40 * lift * std::pow(kPi / width, 4), h = kDeg;
+  std::printf("table h = 1 deg: |ds| %.3g m (bound %.3g), |dv| %.3g m/rad (%.3g), |da| %.3g m/rad^2 (%.3g)\n",
+              e1.s, 5.0 / 384 * std::pow(h, 4) * m4, e1.v, std::pow(h, 3) / 24 * m4, e1.a,
+              3.0 / 8 * h * h * m4);
+  std::printf("table h = 2 deg: |ds| %.3g m, |dv| %.3g m/rad, |da| %.3g m/rad^2; ratios %.1f %.1f %.1f\n",
+              e2.s, e2.v, e2.a, e2.s / e1.s, e2.v / e1.v, e2.a / e1.a);
+  EXPECT_LT(e1.s, 5.0 / 384 * std::pow(h, 4) * m4);
+  EXPECT_LT(e1.v, std::pow(h, 3) / 24 * m4);
+  EXPECT_LT(e1.a, 3.0 / 8 * h * h * m4);
+  // Convergence: halving h divides the errors by about 16, 8 and 4.
+  EXPECT_GT(e2.s / e1.s, 10.0);
+  EXPECT_GT(e2.v / e1.v, 5.0);
+  EXPECT_GT(e2.a / e1.a, 3.0);
+  EXPECT_NEAR(cam->max_lift(), lift, 1e-9);
+  EXPECT_NEAR(cam->max_lift_angle(), nose, 1e-3);  // s'' = -0.066 m/rad^2: 1e-9 m of error moves it ~2e-4 rad
+  EXPECT_NEAR(cam->lift(nose + 2 * kPi).s, cam->lift(nose).s, 1e-15);
+  EXPECT_NEAR(cam->lift(nose - 6 * kPi).s, cam->lift(nose).s, 1e-15);
+}
+
+TEST(CamProfile, TableFromACsvFileWithNamedColumnsAndAClosingRow) {
+  const double lift = 0.010, width = 140 * kDeg, rb = 0.018, rr = 0.010, nose = 90 * kDeg;
+  const Cos4Cam exact(lift, width, rb, rr, nose);
+  const auto dir = std::filesystem::path(NVH_BINARY_DIR) / "tests" / "solve" / "cam_profile_files";
+  std::filesystem::create_directories(dir);
+  {
+    std::FILE* out = std::fopen((dir / "lift.csv").string().c_str(), "w");
+    ASSERT_NE(out, nullptr);
+    std::fprintf(out, "step,lift_mm,angle_deg\n");
+    for (int k = 0; k <= 360; ++k)  // 0 .. 360 deg: the last row closes the table
+      std::fprintf(out, "%d,%.17g,%d\n", k, exact.lift(k * kDeg).s * 1e3, k);
+    std::fclose(out);
+  }
+  const auto doc = input::Document::parse(
+      "profile = \"table\"\nfile = \"lift.csv\"\ncolumns = [\"angle_deg\", \"lift_mm\"]\nlift_scale = 1e-3\n"
+      "base_radius = 0.018\nroller_radius = 0.010\n",
+      "cam.toml");
+  std::vector<std::filesystem::path> inputs;
+  const auto cam = read_cam_profile(doc.root(), dir, inputs);
+  ASSERT_EQ(inputs.size(), 1u);
+  EXPECT_EQ(inputs[0], dir / "lift.csv");
+  const SplineErrors e = table_errors(*cam, exact);
+  EXPECT_LT(e.s, 1.3e-9);  // the bounds of the test above
+  EXPECT_LT(e.v, 2.4e-7);
+  EXPECT_LT(e.a, 1.2e-4);
+  // The closing row must repeat the first lift.
+  {
+    std::FILE* out = std::fopen((dir / "open.csv").string().c_str(), "w");
+    ASSERT_NE(out, nullptr);
+    for (int k = 0; k <= 360; ++k)
+      std::fprintf(out, "%d,%.17g\n", k, (k == 360 ? 0.5 : 0) + exact.lift(k * kDeg).s * 1e3);
+    std::fclose(out);
+  }
+  const auto bad = input::Document::parse(
+      "profile = \"table\"\nfile = \"open.csv\"\nlift_scale = 1e-3\nbase_radius = 0.018\nroller_radius = "
+      "0.010\n",
+      "cam.toml");
+  try {
+    read_cam_profile(bad.root(), dir, inputs);
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("cam.toml:2"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("open.csv"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("cam angle 360 deg"), std::string::npos) << msg;
+  }
+}
+
+TEST(CamProfile, TableWithAKinkOrAStepIsNotSmoothEnoughAtItsAngle) {
+  const double lift = 0.008, rb = 0.020, rr = 0.008;
+  // A velocity jump (from +3L/W to -3L/W) at 100 deg only: s = L (1 - |phi|/W)^3 for |phi| < W = 100 deg.
+  const auto kink = [&](double theta) {
+    const double u = std::abs(std::remainder(theta - 100 * kDeg, 2 * kPi)) / (100 * kDeg);
+    return u < 1 ? lift * std::pow(1 - u, 3) : 0.0;
+  };
+  std::string msg = error_of(table_text(kink, 1.0, rb, rr));
+  std::printf("kink: %s\n", msg.c_str());
+  EXPECT_NE(msg.find("'table'"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("not smooth enough"), std::string::npos) << msg;
+  EXPECT_NEAR(number_after(msg, "at cam angle "), 100.0, 2.0) << msg;
+  // A step of L at 90 deg (and back at 150 deg).
+  const auto step = [&](double theta) {
+    const double d = wrap(theta) / kDeg;
+    return d >= 90 && d < 150 ? lift : 0.0;
+  };
+  msg = error_of(table_text(step, 1.0, rb, rr));
+  std::printf("step: %s\n", msg.c_str());
+  EXPECT_NE(msg.find("not smooth enough"), std::string::npos) << msg;
+  const double at = number_after(msg, "at cam angle ");
+  EXPECT_TRUE(std::abs(at - 90) < 2 || std::abs(at - 150) < 2) << msg;
+}
+
+TEST(CamProfile, TableRollerLargerThanTheNoseUndercutsAtTheNose) {
+  const double lift = 0.010, width = 140 * kDeg, rb = 0.005, rr = 0.010, nose = 90 * kDeg;
+  const Cos4Cam exact(lift, width, rb, rr, nose);
+  const std::string msg = error_of(table_text([&](double th) { return exact.lift(th).s; }, 1.0, rb, rr));
+  std::printf("undercut: %s\n", msg.c_str());
+  EXPECT_NE(msg.find("'roller_radius'"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("does not fit"), std::string::npos) << msg;
+  EXPECT_NEAR(number_after(msg, "at cam angle "), 90.0, 0.2) << msg;
+  // The nose's radius of curvature as worked out in RollerTooLargeForTheNose... (6.93 mm), the spline's to
+  // 0.01 mm.
+  const double rho = rb + rr + lift, rho2 = -4 * lift * std::pow(kPi / width, 2);
+  EXPECT_NEAR(number_after(msg, "radius of curvature there is "), rho * rho / (rho - rho2) * 1e3, 0.01)
+      << msg;
+}
+
+TEST(CamProfile, TableErrorsNameTheRowAndAngle) {
+  const std::string head = "profile = \"table\"\nbase_radius = 0.02\nroller_radius = 0.008\n";
+  std::string rows;
+  for (int k = 0; k < 12; ++k) {  // appended piecewise: GCC 12's -Wrestrict misfires on "[" + to_string(...)
+    rows += '[';
+    rows += std::to_string(30 * k);
+    rows += ", 0.0],";
+  }
+  std::string msg = error_of(head + "table = [" + rows + "[300, 0.0]]\n");
+  EXPECT_NE(msg.find("increase strictly"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("row 13 (300 deg)"), std::string::npos) << msg;
+  msg = error_of(head + "table = [" + rows + "[361, 0.0]]\n");
+  EXPECT_NE(msg.find("more than one turn"), std::string::npos) << msg;
+  msg = error_of(head + "table = [" + std::string(rows).replace(rows.find("[60, 0.0]"), 9, "[60, -1e-4]") +
+                 "]\n");
+  EXPECT_NE(msg.find("negative lift -0.0001 m at cam angle 60 deg"), std::string::npos) << msg;
+  msg = error_of(head + "table = [[0, 0], [10, 0], [20, 0]]\n");
+  EXPECT_NE(msg.find("at least 8 points"), std::string::npos) << msg;
+  msg = error_of(head);
+  EXPECT_NE(msg.find("'table'"), std::string::npos) << msg;
+  msg = error_of(head + "table = [" + rows + "]\nlift_scale = 0\n");
+  EXPECT_NE(msg.find("lift_scale"), std::string::npos) << msg;
+}
+
+// ======================================================================================= polynomial profile
+
+const std::string kPolynomial =
+    "profile = \"polynomial\"\nlift = 0.010\nrise_deg = 55\nramp_deg = 20\nramp_height = 0.0003\n"
+    "base_radius = 0.018\nroller_radius = 0.009\nnose_angle_deg = 120\n";
+
+/// The quintic through (p0, d0, a0) at v0 and (p1, d1, a1) at v1, by solving its 6 x 6 conditions here.
+Eigen::Matrix<double, 6, 1> quintic(double v0, double v1, double p0, double d0, double a0, double p1,
+                                    double d1, double a1) {
+  Eigen::Matrix<double, 6, 6> m = Eigen::Matrix<double, 6, 6>::Zero();
+  for (int j = 0; j < 6; ++j) {
+    for (int side = 0; side < 2; ++side) {
+      const double v = side ? v1 : v0;
+      m(3 * side, j) = std::pow(v, j);
+      if (j >= 1) m(3 * side + 1, j) = j * std::pow(v, j - 1);
+      if (j >= 2) m(3 * side + 2, j) = j * (j - 1) * std::pow(v, j - 2);
+    }
+  }
+  Eigen::Matrix<double, 6, 1> rhs;
+  rhs << p0, d0, a0, p1, d1, a1;
+  return m.fullPivLu().solve(rhs);
+}
+
+TEST(CamProfile, PolynomialEventMeetsItsBoundaryConditionsAndIsSymmetric) {
+  const auto cam = read(kPolynomial);
+  EXPECT_EQ(cam->kind(), "polynomial");
+  const double L = 0.010, H = 0.0003, a = 20 * kDeg, b = 55 * kDeg, nose = 120 * kDeg;
+  const double V = 2 * H / a;  // the default ramp velocity
+  // Opening side: v = angle since the ramp's start, theta = nose - (a + b) + v.
+  const auto at = [&](double v) { return nose - (a + b) + v; };
+  const auto ramp = quintic(0, a, 0, 0, 0, H, V, 0), rise = quintic(a, a + b, H, V, 0, L, 0, 0);
+  double err = 0, err_d = 0, err_dd = 0;
+  for (int k = 0; k <= 400; ++k) {
+    const double v = (a + b) * k / 400.0;
+    const auto& c = v <= a ? ramp : rise;
+    double s = 0, ds = 0, dds = 0;
+    for (int j = 0; j < 6; ++j) {
+      s += c[j] * std::pow(v, j);
+      if (j >= 1) ds += j * c[j] * std::pow(v, j - 1);
+      if (j >= 2) dds += j * (j - 1) * c[j] * std::pow(v, j - 2);
+    }
+    const Lift l = cam->lift(at(v));
+    err = std::max(err, std::abs(l.s - s));
+    err_d = std::max(err_d, std::abs(l.ds - ds));
+    err_dd = std::max(err_dd, std::abs(l.dds - dds));
+    // Symmetry about the nose: s even, s' odd, s'' even.
+    const Lift m = cam->lift(2 * nose - at(v));
+    EXPECT_NEAR(m.s, l.s, 1e-15);
+    EXPECT_NEAR(m.ds, -l.ds, 1e-14);
+    EXPECT_NEAR(m.dds, l.dds, 1e-13);
+    EXPECT_GE(l.ds, 0.0);  // monotonic opening
+  }
+  std::printf("polynomial vs 6x6 solve: |ds| %.3g m, |dv| %.3g m/rad, |da| %.3g m/rad^2\n", err, err_d,
+              err_dd);
+  EXPECT_LT(err, 1e-15);  // round-off of both (lifts of 10 mm; the 6 x 6 solve in powers of v up to 1.3^5)
+  EXPECT_LT(err_d, 1e-14);
+  EXPECT_LT(err_dd, 1e-12);
+  // The default ramp: H (2 x^3 - x^4), x = v / a.
+  for (double x : {0.1, 0.5, 0.9})
+    EXPECT_NEAR(cam->lift(at(x * a)).s, H * (2 * x * x * x - x * x * x * x), 1e-17);
+  // The junctions: base | ramp start (v = 0), ramp | rise (v = a), the top (v = a + b), and the closing side.
+  const double eps = 1e-12;
+  struct Junction {
+    double theta, s, ds, dds;
+  };
+  const Junction junctions[] = {{at(0), 0, 0, 0},
+                                {at(a), H, V, 0},
+                                {nose, L, 0, 0},
+                                {2 * nose - at(a), H, -V, 0},
+                                {2 * nose - at(0), 0, 0, 0}};
+  double jump_s = 0, jump_v = 0, jump_a = 0;
+  for (const Junction& j : junctions) {
+    for (double side : {-eps, 0.0, eps}) {
+      const Lift l = cam->lift(j.theta + side);
+      jump_s = std::max(jump_s, std::abs(l.s - j.s) - eps * std::abs(j.ds));
+      jump_v = std::max(jump_v, std::abs(l.ds - j.ds));
+      jump_a = std::max(jump_a, std::abs(l.dds - j.dds));
+    }
+  }
+  std::printf("polynomial junctions: |ds| %.3g m, |dv| %.3g m/rad, |da| %.3g m/rad^2\n", jump_s, jump_v,
+              jump_a);
+  EXPECT_LT(jump_s, 1e-16);
+  EXPECT_LT(jump_v, 1e-14);
+  EXPECT_LT(jump_a, 1e-11);
+  // Max lift L at the nose and nowhere more; base circle outside the event.
+  EXPECT_DOUBLE_EQ(cam->max_lift(), L);
+  EXPECT_NEAR(cam->max_lift_angle(), nose, 1e-15);
+  double top = 0;
+  for (int k = 0; k < 36000; ++k) top = std::max(top, cam->lift(0.01 * k * kDeg).s);
+  EXPECT_LE(top, L);
+  EXPECT_GT(top, L - 1e-12);
+  EXPECT_EQ(cam->lift(nose + 180 * kDeg).s, 0.0);
+  EXPECT_EQ(cam->lift(at(-1e-9)).s, 0.0);
+  EXPECT_EQ(cam->lift(at(-1e-9)).dds, 0.0);
+}
+
+TEST(CamProfile, PolynomialEventChecks) {
+  const std::string base =
+      "profile = \"polynomial\"\nlift = 0.010\nbase_radius = 0.018\nroller_radius = 0.009\n";
+  std::string msg = error_of(base + "rise_deg = 150\nramp_deg = 40\nramp_height = 0.0003\n");
+  EXPECT_NE(msg.find("does not fit in 360 deg"), std::string::npos) << msg;
+  msg = error_of(base + "rise_deg = 50\nramp_deg = 20\nramp_height = 0.010\n");
+  EXPECT_NE(msg.find("'ramp_height'"), std::string::npos) << msg;
+  msg = error_of(base + "rise_deg = 50\nramp_deg = 20\nramp_height = 0.0003\nramp_velocity = 0.5\n");
+  EXPECT_NE(msg.find("'ramp_velocity'"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("falls"), std::string::npos) << msg;
+  msg = error_of(base + "rise_deg = 0\nramp_deg = 20\nramp_height = 0.0003\n");
+  EXPECT_NE(msg.find("'rise_deg'"), std::string::npos) << msg;
+  // A sharp event with a large roller undercuts.
+  msg = error_of(
+      "profile = \"polynomial\"\nlift = 0.012\nbase_radius = 0.006\nroller_radius = 0.015\n"
+      "rise_deg = 30\nramp_deg = 10\nramp_height = 0.0002\n");
+  EXPECT_NE(msg.find("does not fit"), std::string::npos) << msg;
 }
 
 }  // namespace
