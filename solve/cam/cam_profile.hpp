@@ -13,8 +13,9 @@
 //
 // A profile answers lift(theta) with the derivatives by theta (the cam's kinematics: velocity = s' omega,
 // acceleration = s'' omega^2 at constant speed omega) and is periodic in 2 pi. Which profiles exist and their
-// closed forms: tangent_cam.cpp (the paper's circular-arc cam, 001 eq. 1), table_cam.cpp (a tabulated lift),
-// polynomial_cam.cpp (polynomial flanks with opening and closing ramps for the lash).
+// closed forms: tangent_cam.cpp (the paper's eccentric circular cam, 001 eq. 1, and the tangent cam of circular
+// arcs and straight flanks), table_cam.cpp (a tabulated lift), polynomial_cam.cpp (polynomial flanks with
+// opening and closing ramps for the lash). Constructors and per-profile readers: profiles.hpp.
 #include <filesystem>
 #include <memory>
 #include <string>
