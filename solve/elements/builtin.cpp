@@ -16,6 +16,7 @@ const ElementRegistry& builtin_elements() {
     register_motor(r);
     register_loads(r);
     register_journal_bearing(r);
+    register_valve_seat(r);
     return r;
   }();
   return registry;

@@ -14,5 +14,6 @@ void register_table_force(ElementRegistry&);
 void register_motor(ElementRegistry&);
 void register_loads(ElementRegistry&);
 void register_journal_bearing(ElementRegistry&);
+void register_valve_seat(ElementRegistry&);
 
 }  // namespace nvh::solve
