@@ -17,6 +17,8 @@
 #include <cstdio>
 #include <numbers>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "solve_fixture.hpp"
 
@@ -244,6 +246,24 @@ TEST(ValveSeat, DampedImpactReboundRatio) {
     EXPECT_LT(rel(ratio, exact), 1e-3);
     EXPECT_LT(rel(ratio, e), 0.05);
     EXPECT_LT(b.balance / ke, 1e-3);  // dissipated = the damping part's power, integrated
+  }
+}
+
+// Refused keys name themselves: a concave seat tighter than the face (no contact line), a seat radius of 0, a
+// seat angle at which the cone is nearly a cylinder.
+TEST(ValveSeat, BadGeometryIsRefusedWithItsKey) {
+  const std::string base = valve_scene(0.0, 0.0, "", "", 0.01, 1000);
+  for (const auto& [keys, key] : std::vector<std::pair<std::string, std::string>>{
+           {"seat_radius = -0.04\n", "seat_radius"},
+           {"seat_radius = -0.05\n", "seat_radius"},
+           {"seat_radius = 0.0\n", "seat_radius"},
+           {"seat_angle_deg = 85.0\n", "seat_angle_deg"},
+           {"seat_diameter_typo = 1.0\n", "seat_diameter_typo"}}) {
+    std::string text = base;
+    text.insert(text.find("[clock]"), keys);
+    const std::string msg = testing::scene_error(text);
+    EXPECT_NE(msg.find("bad.toml"), std::string::npos) << keys << msg;
+    EXPECT_NE(msg.find(key), std::string::npos) << keys << msg;
   }
 }
 
