@@ -21,10 +21,9 @@
 // The face's generator makes beta with the radial direction, so its normal makes beta with the axis. A rigid
 // axial closure delta_a moves the faces into each other by its normal component and slides them along the
 // generator by delta_a sin(beta):
-//   normal approach   delta_n = delta_a cos(beta)         (beta = 0: a flat seat, delta_n = delta_a)
-// and the normal load F_n (N, the whole ring) has the axial resultant (the radial parts cancel around the
-// ring)
-//   axial force       F_a = F_n cos(beta),  F_n / F_a = 1 / cos(beta)  (1.414 at 45 deg, 1.155 at 30 deg)
+//   normal approach  delta_n = delta_a cos(beta)   (beta = 0: a flat seat, delta_n = delta_a)
+// and the normal load F_n (N, on the whole ring) has the axial resultant (the radial parts cancel):
+//   axial force      F_a = F_n cos(beta),  F_n / F_a = 1 / cos(beta)  (1.414 at 45 deg, 1.155 at 30 deg)
 // acting on the valve along +z_j (the seat pushes it out of the seat, in the opening direction), the reaction
 // on the seat. Virtual work agrees: F_a d(delta_a) = F_n d(delta_n).
 //
@@ -32,14 +31,12 @@
 // from the crowning radius of the valve face across the band `face_radius` and the seat's `seat_radius`
 // (default flat: R = face_radius; concave negative), contact modulus E* of the valve's and the seat's
 // materials (hertz_line.hpp, Johnson eq. 4.43/4.45 and Palmgren's law as written there):
-//   elastic normal force  P(delta_n) = Palmgren's line law scaled by E* (hertz::PalmgrenLine, length L):
-//                         P = K delta_n^(10/9), so F_a,el = cos(beta) P(cos(beta) delta_a) = k_a
-//                         delta_a^(10/9) with k_a = cos(beta) P(cos(beta)) (P at 1 m: the law is a pure power
-//                         law)
-//   or, with `stiffness` (N/m, a measured AXIAL seat stiffness): F_a,el = stiffness * delta_a (F_n = F_a /
-//   cos) damping (Hunt & Crossley, J. Appl. Mech. 42, 1975, eq. 5) as in contact_law.hpp:
-//                         F_a = F_a,el (1 + alpha delta_a') >= 0 (never pulling), alpha = 3 (1 - e) / (2
-//                         v_ref)
+//   elastic normal force: Palmgren's line law scaled by E* (hertz::PalmgrenLine, length L),
+//     P(delta_n) = K delta_n^(10/9),  F_a,el = cos(beta) P(cos(beta) delta_a) = k_a delta_a^(10/9),
+//     k_a = cos(beta) P(cos(beta))  (P at 1 m of approach: the law is a pure power law);
+//   or, with `stiffness` k (N/m, a measured AXIAL seat stiffness): F_a,el = k delta_a, F_n = F_a / cos(beta);
+//   damping (Hunt & Crossley, J. Appl. Mech. 42, 1975, eq. 5) as in contact_law.hpp:
+//     F_a = F_a,el (1 + alpha delta_a') >= 0 (never pulling),  alpha = 3 (1 - e) / (2 v_ref).
 // `restitution` e and `reference_speed` v_ref are in the AXIAL terms a valve rig measures: e is the ratio of
 // the valve's axial rebound and seating speeds at the axial seating speed v_ref (for small alpha v; exactly
 // G(v_out) = G(v_in), G(v) = v/alpha - ln(1 + alpha v)/alpha^2). In normal terms the factor is
@@ -167,11 +164,10 @@ void register_valve_seat(ElementRegistry& r) {
   r.add(
       {"force",
        "valve-seat",
-       "valve face (i) on its seat insert (j), z along the stem in the opening direction: Hertz line contact "
-       "on "
-       "the seat cone, Palmgren's approach, Hunt-Crossley damping: seat_diameter, face_radius, seat_radius, "
-       "seat_angle_deg, valve_youngs_modulus, valve_poisson, seat_youngs_modulus, seat_poisson, stiffness, "
-       "restitution, reference_speed",
+       "valve face (i) on its seat insert (j), z along the stem in the opening direction: Hertz line "
+       "contact on the seat cone, Palmgren's approach, Hunt-Crossley damping: seat_diameter, face_radius, "
+       "seat_radius, seat_angle_deg, valve_youngs_modulus, valve_poisson, seat_youngs_modulus, seat_poisson, "
+       "stiffness, restitution, reference_speed",
        {"i", "j"},
        make_valve_seat});
 }
