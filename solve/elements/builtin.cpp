@@ -17,6 +17,7 @@ const ElementRegistry& builtin_elements() {
     register_loads(r);
     register_journal_bearing(r);
     register_roller_cam(r);
+    register_valve_seat(r);
     return r;
   }();
   return registry;

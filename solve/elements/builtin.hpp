@@ -15,5 +15,6 @@ void register_motor(ElementRegistry&);
 void register_loads(ElementRegistry&);
 void register_journal_bearing(ElementRegistry&);
 void register_roller_cam(ElementRegistry&);
+void register_valve_seat(ElementRegistry&);
 
 }  // namespace nvh::solve

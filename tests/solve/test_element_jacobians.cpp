@@ -291,6 +291,44 @@ TEST(ElementJacobians, PointSetContactPointsInEveryState) {
   }
 }
 
+// Valve seat: the valve (i = 0) along z_j of the seat (j = 1), in contact (axial closure 10..50 mm: far
+// beyond a real seat's microns, so that the differences' step 1e-6 m is small against it), closing or opening
+// slowly (alpha = 3 (1 - 0.8) / (2 * 1 m/s) = 0.3 s/m: the clamp fn = 0 for delta_a' < -3.3 m/s), opening
+// fast (the clamp) and open; Palmgren's law (exponent 10/9) at 45 and 30 deg, a concave seat, and the linear
+// `stiffness`.
+TEST(ElementJacobians, ValveSeatInContactWithRateClampAndOpen) {
+  const std::string law =
+      "seat_diameter = 0.03\nface_radius = 0.05\nrestitution = 0.8\nreference_speed = 1.0\n";
+  const std::vector<Built> seats = [&] {
+    std::vector<Built> b;
+    b.push_back(build("force", "valve-seat", law, {MarkerMotion{}, MarkerMotion{}}));
+    b.push_back(build("force", "valve-seat", law + "seat_angle_deg = 30.0\nseat_radius = -0.2\n",
+                      {MarkerMotion{}, MarkerMotion{}}));
+    b.push_back(build("force", "valve-seat", law + "stiffness = 2.0e8\n", {MarkerMotion{}, MarkerMotion{}}));
+    return b;
+  }();
+  std::mt19937 rng(13);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int n = 0; n < 6; ++n) {
+    for (std::size_t k = 0; k < seats.size(); ++k) {
+      const std::string tag =
+          std::string(" (seat ").append(std::to_string(k)).append(", ").append(std::to_string(n)) + ")";
+      Point p = two_random(rng);
+      const MarkerMotion& j = p.markers[1];
+      // on the axis, or off it by up to 5 mm (a misplaced marker: the law is still a plane law along z_j)
+      const Vec3 off = (n % 2 ? 0.005 : 0.0) * Vec3(u(rng), u(rng), u(rng));
+      p.markers[0].position = j.position - (0.03 + 0.02 * u(rng)) * j.axes.col(2) + off;
+      set_normal_rate(p, 0.5 * u(rng));  // closing or opening slowly
+      expect_matches(*seats[k].element, p, "valve seat in contact" + tag);
+      set_normal_rate(p, 5.0 + u(rng));  // opening fast: 1 + alpha delta_a' < 0, clamped to no force
+      expect_matches(*seats[k].element, p, "valve seat in the clamp" + tag, false);
+      p.markers[0].position = j.position + (0.001 + 0.02 * (1.0 + u(rng))) * j.axes.col(2) + off;
+      set_normal_rate(p, -0.5);  // closing, still open
+      expect_matches(*seats[k].element, p, "valve seat open" + tag, false);
+    }
+  }
+}
+
 TEST(ElementJacobians, TableForce) {
   std::mt19937 rng(5);
   // breakpoints at +-0.6 and +-2 m: the random deflections (|x| <= 0.35) stay on the middle piece
@@ -443,6 +481,7 @@ TEST(ElementJacobians, EveryRegisteredTypeIsAnalytic) {
       {"driver motor", "table = [[-1000.0, 20.0], [3000.0, -5.0]]\n"},
       {"load force", "direction = [0, 0, 1]\naxes = \"marker\"\namplitude = 1.0\nfrequency_hz = 10.0\n"},
       {"load torque", "direction = [0, 0, 1]\nabscissa = \"crank-angle\"\ntable = [[0.0, 0.0], [720.0, 1.0]]\n"},
+      {"force valve-seat", "seat_diameter = 0.03\nface_radius = 0.05\nrestitution = 0.8\n"},
   };
   std::mt19937 rng(1);
   std::set<std::string> seen;

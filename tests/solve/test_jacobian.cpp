@@ -168,6 +168,26 @@ at = [0.02, 0.05, 0.01]
   expect_exact(text, "point-set contact");
 }
 
+// The valve seat: a.m (the valve, at [0.15, 0.18, 0.03]) 50 mm into the seat of a ground marker along z, so
+// that every random state (positions +-10 mm, rotations +-0.1 rad) is in contact; alpha = 0.15 s/m keeps the
+// random speeds (a few m/s) out of the clamp.
+TEST(AnalyticJacobian, ValveSeatInContact) {
+  std::string text = two_bodies(R"(
+[[force]]
+name = "seat"
+type = "valve-seat"
+i = "a.m"
+j = "ground.seat"
+seat_diameter = 0.03
+face_radius = 0.05
+seat_angle_deg = 30.0
+restitution = 0.9
+)");
+  const std::string body_a = "[[body]]\nname = \"a\"";
+  text.insert(text.find(body_a), "[[body.marker]]\nname = \"seat\"\nat = [0.15, 0.18, 0.08]\n");
+  expect_exact(text, "valve seat");
+}
+
 TEST(AnalyticJacobian, TableForceAndMotor) {
   expect_exact(two_bodies(R"(
 [[force]]
