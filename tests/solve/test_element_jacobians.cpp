@@ -440,8 +440,7 @@ TEST(ElementJacobians, EveryRegisteredTypeIsAnalytic) {
        "masses = 3\nmass = 0.03\nstiffness = 1e5\ndamping_ratio = 0.05\nfree_length = 0.2\n"},
       {"force valve-spring",
        "wire_diameter = 0.004\nmean_diameter = 0.025\nactive_coils = 6\nfree_length = 0.05\n"},
-      {"force bushing",
-       "stiffness = [1e5, 2e5, 3e5, 1e3, 2e3, 3e3]\ndamping = [10, 20, 30, 0.1, 0.2, 0.3]\n"},
+      {"force bushing", "stiffness = [1e5, 2e5, 3e5, 1e3, 2e3, 3e3]\ndamping = [10, 20, 30, 0.1, 0.2, 0.3]\n"},
       {"force torsional-spring-damper", "k = 500.0\nd = 2.0\n"},
       {"force contact", "stiffness = 1e6\nclearance = -0.5\nmu_static = 0.3\n"},
       {"force point-set-contact", "stiffness = 1e6\nclearance = -0.5\nmu_static = 0.3\n"},
@@ -449,8 +448,7 @@ TEST(ElementJacobians, EveryRegisteredTypeIsAnalytic) {
       {"force motor", "table = [[-1000.0, 20.0], [3000.0, -5.0]]\n"},
       {"driver motor", "table = [[-1000.0, 20.0], [3000.0, -5.0]]\n"},
       {"load force", "direction = [0, 0, 1]\naxes = \"marker\"\namplitude = 1.0\nfrequency_hz = 10.0\n"},
-      {"load torque",
-       "direction = [0, 0, 1]\nabscissa = \"crank-angle\"\ntable = [[0.0, 0.0], [720.0, 1.0]]\n"},
+      {"load torque", "direction = [0, 0, 1]\nabscissa = \"crank-angle\"\ntable = [[0.0, 0.0], [720.0, 1.0]]\n"},
   };
   std::mt19937 rng(1);
   std::set<std::string> seen;
