@@ -28,7 +28,7 @@
 // inertia).
 //
 // valve-spring (Wahl, Mechanical Springs, 2nd ed. 1963, ch. 2 and 25; Shigley's Mechanical Engineering
-// Design, 10th ed., sec. 10-3, 10-8, 10-14): wire d, mean coil diameter D, active coils n_a, dead coils n_d
+// Design, 10th ed., sec. 10-3 and 10-8): wire d, mean coil diameter D, active coils n_a, dead coils n_d
 // per end, shear modulus G, density rho:
 //   k = G d^4 / (8 D^3 n_a),   m_a = rho (pi d^2 / 4) (pi D n_a)   (active mass)
 //   N + 1 equal segments of the active coils; each internal mass m_a / (N + 1) (consistent lumping: the
