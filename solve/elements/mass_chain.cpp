@@ -72,7 +72,7 @@ class MassChain final : public ForceElement {
   int marker_count() const override { return 2; }
   std::vector<StateDefinition> states() const override {
     std::vector<StateDefinition> s;
-    for (int k = 1; k < segments_; ++k) {
+    for (int k = 1; k <= n_; ++k) {
       s.push_back({"position_" + std::to_string(k), "m", true, p_.initial[k - 1]});
       s.push_back({"velocity_" + std::to_string(k), "m/s", true, 0.0});
     }
@@ -222,16 +222,18 @@ class MassChain final : public ForceElement {
   double l0_;         // m, each segment's free length
 };
 
-/// The first fixed-fixed natural frequency (rad/s) of the chain: K tridiagonal (2 k_s, -k_s), M diagonal.
+/// The first fixed-fixed natural frequency (rad/s) of the chain: K tridiagonal (2 k_s, -k_s), M diagonal;
+/// the lowest eigenvalue of the tridiagonal M^-1/2 K M^-1/2.
 double first_frequency(const std::vector<double>& mass, double k_s) {
   const int n = static_cast<int>(mass.size());
-  Eigen::MatrixXd a = Eigen::MatrixXd::Zero(n, n);  // M^-1/2 K M^-1/2
+  Eigen::VectorXd diagonal(n), off(std::max(n - 1, 0));
   for (int r = 0; r < n; ++r) {
-    a(r, r) = 2 * k_s / mass[r];
-    if (r + 1 < n) a(r, r + 1) = a(r + 1, r) = -k_s / std::sqrt(mass[r] * mass[r + 1]);
+    diagonal[r] = 2 * k_s / mass[r];
+    if (r + 1 < n) off[r] = -k_s / std::sqrt(mass[r] * mass[r + 1]);
   }
-  return std::sqrt(
-      Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(a, Eigen::EigenvaluesOnly).eigenvalues()[0]);
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> solver;
+  solver.computeFromTridiagonal(diagonal, off, Eigen::EigenvaluesOnly);
+  return std::sqrt(solver.eigenvalues()[0]);
 }
 
 /// The keys both types share: damping (segment, N s/m) or damping_ratio (of the first fixed-fixed mode,

@@ -171,6 +171,40 @@ TEST(ValveSpring, SurgeFrequencyConvergesToTheContinuousSpring) {
   EXPECT_NEAR(slope, 2.0, 0.1);
 }
 
+// damping_ratio zeta: c_s = 2 zeta k_s / w_1 is stiffness-proportional, so the modes stay uncoupled and the
+// first mode started alone decays as x_1 ~ exp(-zeta w_1 t) cos(w_d t), w_d = w_1 sqrt(1 - zeta^2) (Thomson &
+// Dahleh, ch. 2): the logarithmic decrement between maxima m periods apart, ln(x_k / x_{k+m}) / m = 2 pi zeta
+// / sqrt(1 - zeta^2), gives zeta back (tolerance 1e-3 relative), the period w_d (1e-3).
+TEST(ValveSpring, DampingRatioOfTheFirstSurgeMode) {
+  const Spring s;
+  const int n = 5;
+  const double zeta = 0.02, f1 = s.chain_hz(n);
+  std::string shape = "initial_displacement = [";
+  for (int k = 1; k <= n; ++k) shape += (k > 1 ? ", " : "") + num(1e-5 * std::sin(k * kPi / (n + 1)));
+  const auto file = run_text(
+      fixed_scene(s.installed, s.keys() + "masses = 5\ndamping_ratio = " + num(zeta) + "\n" + shape + "]\n",
+                  15.0 / f1, 2000 * f1),
+      "valve_spring_damping");
+  const Eigen::VectorXd t = signal(file, "time"), x1 = signal(file, "forces/spring/x_1");
+  std::vector<double> tp, xp;  // maxima, refined by a parabola through three samples
+  for (Eigen::Index k = 1; k + 1 < t.size(); ++k)
+    if (x1[k] > x1[k - 1] && x1[k] >= x1[k + 1] && x1[k] > 0) {
+      const double a = x1[k - 1], b = x1[k], c = x1[k + 1], den = a - 2 * b + c, o = 0.5 * (a - c) / den;
+      tp.push_back(t[k] + o * (t[k + 1] - t[k]));
+      xp.push_back(b - 0.25 * (a - c) * o);
+    }
+  ASSERT_GE(tp.size(), 10u);
+  const double m = static_cast<double>(tp.size() - 1), delta = std::log(xp.front() / xp.back()) / m;
+  const double zeta_measured = delta / std::sqrt(4 * kPi * kPi + delta * delta);
+  const double fd = m / (tp.back() - tp.front()), fd_expected = f1 * std::sqrt(1 - zeta * zeta);
+  std::printf(
+      "measured: surge damping ratio %.6f (given %.6f, error %.2e, tolerance 1e-3); damped frequency %.6f Hz "
+      "(closed form %.6f Hz, error %.2e, tolerance 1e-3)\n",
+      zeta_measured, zeta, zeta_measured / zeta - 1, fd, fd_expected, fd / fd_expected - 1);
+  EXPECT_NEAR(zeta_measured / zeta, 1.0, 1e-3);
+  EXPECT_NEAR(fd / fd_expected, 1.0, 1e-3);
+}
+
 // Coil clash: held below the solid length L_s = (n_a + 2 n_d) d the force is k (L_free - L) + 100 k (L_s - L)
 // (every segment in clash by the same amount), above it k (L_free - L); the channel `clash` counts the
 // segments in clash. Tolerance 1e-9 of the force. The stiffening: the slope below L_s is 101 k.
