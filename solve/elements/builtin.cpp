@@ -8,6 +8,7 @@ const ElementRegistry& builtin_elements() {
     ElementRegistry r;
     register_spring_damper(r);
     register_maxwell(r);
+    register_mass_chain(r);
     register_bushing(r);
     register_torsional_spring_damper(r);
     register_contact(r);

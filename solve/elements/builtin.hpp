@@ -6,6 +6,7 @@ namespace nvh::solve {
 
 void register_spring_damper(ElementRegistry&);
 void register_maxwell(ElementRegistry&);
+void register_mass_chain(ElementRegistry&);  // mass-chain and valve-spring
 void register_bushing(ElementRegistry&);
 void register_torsional_spring_damper(ElementRegistry&);
 void register_contact(ElementRegistry&);

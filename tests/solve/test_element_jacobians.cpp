@@ -414,6 +414,62 @@ TEST(ElementJacobians, SpringDampersForReference) {
   }
 }
 
+// Mass chain and valve spring: marker i at distance L from j along a random direction, the internal masses at
+// their static positions plus offsets (m) and random speeds. Cases open, every segment in coil clash, and
+// mixed (one segment shorter than its solid share, its neighbour longer); N = 1, 5 and 20 (65 columns).
+Point chain_point(std::mt19937& rng, double length, double end_height, const std::vector<double>& offset) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  Point p = two_random(rng);
+  const Vec3 e = Vec3(u(rng), u(rng), u(rng)).normalized();
+  p.markers[0].position = p.markers[1].position + length * e;
+  const int n = static_cast<int>(offset.size());
+  for (int k = 1; k <= n; ++k) {
+    p.z.push_back(end_height + k * (length - 2 * end_height) / (n + 1) + offset[k - 1]);
+    p.z.push_back(0.5 * u(rng));
+    p.zp.push_back(0.3 * u(rng));
+    p.zp.push_back(50.0 * u(rng));
+  }
+  return p;
+}
+
+TEST(ElementJacobians, MassChainAndValveSpringOpenAndInClash) {
+  std::mt19937 rng(31);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  // valve spring: d 4 mm, 6 active coils, one dead coil per end (h = 4 mm), solid 32 mm, segment solid 4 mm
+  const std::string spring =
+      "wire_diameter = 0.004\nmean_diameter = 0.025\nactive_coils = 6\nfree_length = 0.05\n"
+      "damping_ratio = 0.02\n";
+  const std::vector<MarkerMotion> at_rest = {MarkerMotion{}, MarkerMotion{}};
+  for (int n : {1, 5, 20}) {
+    const Built b = build("force", "valve-spring", spring + "masses = " + std::to_string(n) + "\n", at_rest);
+    const double seg_solid = 0.024 / (n + 1);
+    for (int c = 0; c < 3; ++c) {
+      std::vector<double> noise(n);
+      for (double& x : noise) x = 0.05 * seg_solid * u(rng);
+      const std::string tag = " (N = " + std::to_string(n) + ", " + std::to_string(c) + ")";
+      expect_matches(*b.element, chain_point(rng, 0.042, 0.004, noise), "valve spring open" + tag);
+      expect_matches(*b.element, chain_point(rng, 0.026, 0.004, noise), "valve spring in clash" + tag);
+      // active length 28 mm: segments 4.67 mm / (N + 1) * 6; moving mass 1 by -0.3 segment solid puts the
+      // segment below it in clash and the one above it open
+      std::vector<double> mixed = noise;
+      mixed[0] -= 0.3 * seg_solid;
+      expect_matches(*b.element, chain_point(rng, 0.036, 0.004, mixed), "valve spring mixed" + tag);
+    }
+  }
+  // mass chain with unequal masses, segment damping and a solid length of 0.1 m (segment 0.025 m)
+  const Built chain =
+      build("force", "mass-chain",
+            "mass_list = [0.01, 0.02, 0.015]\nstiffness = 1e5\ndamping = 20\nfree_length = 0.3\n"
+            "solid_length = 0.1\n",
+            at_rest);
+  for (int c = 0; c < 4; ++c) {
+    const std::vector<double> noise = {0.005 * u(rng), 0.005 * u(rng), 0.005 * u(rng)};
+    expect_matches(*chain.element, chain_point(rng, 0.2, 0.0, noise), "mass chain open " + std::to_string(c));
+    expect_matches(*chain.element, chain_point(rng, 0.08, 0.0, noise),
+                   "mass chain in clash " + std::to_string(c));
+  }
+}
+
 // Every registered element type has its analytic Jacobian (the journal bearing differentiates its film model
 // partly by differences and is checked in test_jacobian.cpp). A new type needs its keys here.
 // The roller on a cam: the roller's centre placed at a random angle on the pitch curve (cam::pitch_point), pushed
@@ -470,6 +526,10 @@ TEST(ElementJacobians, EveryRegisteredTypeIsAnalytic) {
   const std::map<std::string, std::string> keys = {
       {"force spring-damper", "k = 1e4\nd = 10\n"},
       {"force maxwell", "k = 1e5\nc = 300\nfree_length = 0.02\n"},
+      {"force mass-chain",
+       "masses = 3\nmass = 0.03\nstiffness = 1e5\ndamping_ratio = 0.05\nfree_length = 0.2\n"},
+      {"force valve-spring",
+       "wire_diameter = 0.004\nmean_diameter = 0.025\nactive_coils = 6\nfree_length = 0.05\n"},
       {"force bushing", "stiffness = [1e5, 2e5, 3e5, 1e3, 2e3, 3e3]\ndamping = [10, 20, 30, 0.1, 0.2, 0.3]\n"},
       {"force torsional-spring-damper", "k = 500.0\nd = 2.0\n"},
       {"force contact", "stiffness = 1e6\nclearance = -0.5\nmu_static = 0.3\n"},
