@@ -5,27 +5,28 @@
 //
 //   e = (p_i - p_j) / L,  L = |p_i - p_j|,  L' = e . (v_i - v_j)
 //   nodes y_0 = h, y_k = x_k (k = 1..N, the internal states), y_{N+1} = L - h   (h: the dead coils' height)
-//   segment s = 0..N from node s to node s+1: l_s = y_{s+1} - y_s, rate r_s (v_k for the internal nodes)
+//   segment s = 0..N from node s to node s+1: l_s = y_{s+1} - y_s, rate r_s (v_k - u_j for the internal
+//   nodes, 0 at j, L' at i)
 //   f_s = k_s (l0 - l_s) - c_s r_s + k_c max(0, l_solid - l_s)     segment force, compression positive (N)
-//   states x_k (m, from j along the line) and v_k (m/s), both differential; their rows
-//     x_k' - v_k = 0
+//   states x_k (m, from j along the line) and v_k (m/s, the mass's ABSOLUTE velocity along the line), both
+//   differential; with u_j = e . v_j (j's velocity along the line) their rows
+//     x_k' - (v_k - u_j) = 0
 //     m_k v_k' - (f_{k-1} - f_k) = 0
-//   are the chain's equations of motion along the line. The masses' lateral motion is not modelled: their
-//   inertia acts along the line only, and gravity on them is not modelled (a valve spring's few grams against
-//   hundreds of newtons of preload). The positions are measured from j, so the rows hold in j's frame: if j
-//   accelerates, the chain's inertial force m_k a_j . e is missing (exact when j is fixed, as a seat on the
-//   head is; approximate on a moving j).
+//   are the chain's equations of motion along the line, in an inertial frame: a chain between two moving
+//   bodies (a pushrod between tappet and rocker) carries its own inertia. Neglected: the turning of the line
+//   (e' terms, the masses' lateral motion; their inertia acts along the line only) and gravity on the masses
+//   (a valve spring's few grams against hundreds of newtons of preload).
 //   wrenches at the markers' origins: F_i = f_N e (the i-end segment pushes i away from j), F_j = -f_0 e.
 // Each segment has free length l0 = (free_length - 2 h) / (N + 1) and rate k_s = (N + 1) k, so the chain's
 // static rate is k. Coil clash: a segment shorter than its solid length l_solid gets the penalty k_c
 // (linear, clash_factor x k_s, default 100): the stiffening contact between neighbouring masses.
 // Initial states: the static equilibrium at the initial marker distance L0 (equal segments: linear
-// interpolation, x_k = h + k (L0 - 2 h) / (N + 1), v_k = 0), plus `initial_displacement` if given.
+// interpolation, x_k = h + k (L0 - 2 h) / (N + 1), v_k interpolated between e . v_j and e . v_i), plus
+// `initial_displacement` if given.
 //
-// Energy: stored = sum k_s (l_s - l0)^2 / 2 + k_c max(0, l_solid - l_s)^2 / 2 + sum m_k v_k^2 / 2, the
-// kinetic part measured relative to j (the frame the states live in); dissipated = sum c_s r_s^2. The model's
-// balance is then exact when j is at rest; on a moving j it is off by (f_0 - f_N) e . v_j (the missing
-// inertia).
+// Energy: stored = sum k_s (l_s - l0)^2 / 2 + k_c max(0, l_solid - l_s)^2 / 2 + sum m_k v_k^2 / 2 (absolute
+// velocities); dissipated = sum c_s r_s^2. The model's balance closes up to the neglected turning of the
+// line.
 //
 // valve-spring (Wahl, Mechanical Springs, 2nd ed. 1963, ch. 2 and 25; Shigley's Mechanical Engineering
 // Design, 10th ed., sec. 10-3 and 10-8): wire d, mean coil diameter D, active coils n_a, dead coils n_d
@@ -51,14 +52,15 @@ namespace {
 
 struct ChainParameters {
   std::string type;
-  std::vector<double> mass;     // kg, each internal mass (N of them)
-  double k_s = 0, c_s = 0;      // N/m, N s/m per segment
-  double free_length = 0;       // m, the whole chain (spring)
-  double end_height = 0;        // m, h: rigid length at each end (the dead coils)
-  double solid = 0;             // m, each segment's solid length (0: no clash)
-  double k_clash = 0;           // N/m, the penalty below it
-  double end_mass = -1;         // kg, valve-spring: mass for the retainer side (< 0: no channel)
-  std::vector<double> initial;  // m, initial x_k
+  std::vector<double> mass;              // kg, each internal mass (N of them)
+  double k_s = 0, c_s = 0;               // N/m, N s/m per segment
+  double free_length = 0;                // m, the whole chain (spring)
+  double end_height = 0;                 // m, h: rigid length at each end (the dead coils)
+  double solid = 0;                      // m, each segment's solid length (0: no clash)
+  double k_clash = 0;                    // N/m, the penalty below it
+  double end_mass = -1;                  // kg, valve-spring: mass for the retainer side (< 0: no channel)
+  std::vector<double> initial;           // m, initial x_k
+  std::vector<double> initial_velocity;  // m/s, initial v_k
 };
 
 class MassChain final : public ForceElement {
@@ -74,7 +76,7 @@ class MassChain final : public ForceElement {
     std::vector<StateDefinition> s;
     for (int k = 1; k <= n_; ++k) {
       s.push_back({"position_" + std::to_string(k), "m", true, p_.initial[k - 1]});
-      s.push_back({"velocity_" + std::to_string(k), "m/s", true, 0.0});
+      s.push_back({"velocity_" + std::to_string(k), "m/s", true, p_.initial_velocity[k - 1]});
     }
     return s;
   }
@@ -82,7 +84,9 @@ class MassChain final : public ForceElement {
   struct Line {
     Vec3 e;
     double length, rate;
-    Vec3 g;  // dL'/dd = (w - e (e . w)) / L, w = v_i - v_j
+    Vec3 g;     // dL'/dd = (w - e (e . w)) / L, w = v_i - v_j
+    double uj;  // e . v_j (m/s)
+    Vec3 gj;    // duj/dd = (v_j - e (e . v_j)) / L
   };
   static Line line(const ElementInput& in) {
     const Vec3 d = in.markers[0].position - in.markers[1].position;
@@ -90,14 +94,18 @@ class MassChain final : public ForceElement {
     const double l = d.norm();
     const Vec3 e = l > 1e-12 ? Vec3(d / l) : Vec3::UnitZ();
     const double rate = e.dot(w);
-    return {e, l, rate, l > 1e-12 ? Vec3((w - rate * e) / l) : Vec3::Zero()};
+    const Vec3& vj = in.markers[1].velocity;
+    const double uj = e.dot(vj);
+    return {e,    l,
+            rate, l > 1e-12 ? Vec3((w - rate * e) / l) : Vec3::Zero(),
+            uj,   l > 1e-12 ? Vec3((vj - uj * e) / l) : Vec3::Zero()};
   }
   // Node n's position and rate: 0 = the j end, 1..N the masses, N+1 the i end.
   double node(const ElementInput& in, const Line& s, int n) const {
     return n == 0 ? p_.end_height : n > n_ ? s.length - p_.end_height : in.z[2 * std::size_t(n - 1)];
   }
   double node_rate(const ElementInput& in, const Line& s, int n) const {
-    return n == 0 ? 0.0 : n > n_ ? s.rate : in.z[2 * std::size_t(n - 1) + 1];
+    return n == 0 ? 0.0 : n > n_ ? s.rate : in.z[2 * std::size_t(n - 1) + 1] - s.uj;
   }
   struct Segment {
     double length, rate, force, stiffness;  // m, m/s, N (compression positive), -df/dl (N/m)
@@ -120,7 +128,7 @@ class MassChain final : public ForceElement {
     out.wrenches[1].force = -below.force * s.e;
     for (int k = 1; k < segments_; ++k) {
       const Segment above = segment(in, s, k);
-      out.state_residual[2 * (k - 1)] = in.zp[2 * (k - 1)] - in.z[2 * (k - 1) + 1];
+      out.state_residual[2 * (k - 1)] = in.zp[2 * (k - 1)] - (in.z[2 * (k - 1) + 1] - s.uj);
       out.state_residual[2 * (k - 1) + 1] =
           p_.mass[k - 1] * in.zp[2 * (k - 1) + 1] - (below.force - above.force);
       below = above;
@@ -130,18 +138,26 @@ class MassChain final : public ForceElement {
 
   // With d = p_i - p_j, w = v_i - v_j: dL = e^T dd, dL' = g^T dd + e^T dw; df_s = -K_s (dy_{s+1} - dy_s)
   // - c_s (dy'_{s+1} - dy'_s), K_s = k_s (+ k_c in clash). F_i = f_N e: dF_i = e df_N + f_N (1 - e e^T)/L dd;
-  // F_j = -f_0 e likewise. Row x_k: cj at x_k, -1 at v_k; row v_k: cj m_k at v_k, -df_{k-1} + df_k.
+  // F_j = -f_0 e likewise. Row x_k: cj at x_k, -1 at v_k, + du_j; row v_k: cj m_k at v_k, -df_{k-1} + df_k.
+  // An internal node's rate v_k - u_j: du_j = gj^T dd + e^T dv_j.
   bool jacobian(const ElementInput& in, ElementJacobian& jac) const override {
     const Line s = line(in);
     if (s.length <= 1e-12) return false;
     auto& m = jac.matrix;
     const int states = jac.state_column(2, 0);
+    // adds b du_j to row r
+    auto add_uj = [&](int r, double b) {
+      m.block<1, 3>(r, 0) += b * s.gj.transpose();
+      m.block<1, 3>(r, 12) -= b * s.gj.transpose();
+      m.block<1, 3>(r, 18) += b * s.e.transpose();
+    };
     // adds a dy_n + b dy'_n to row r
     auto add_node = [&](int r, int n, double a, double b) {
       if (n == 0) return;
       if (n <= n_) {
         m(r, states + 2 * (n - 1)) += a;
         m(r, states + 2 * (n - 1) + 1) += b;
+        add_uj(r, -b);
         return;
       }
       const Eigen::RowVector3d dd = a * s.e.transpose() + b * s.g.transpose(), dw = b * s.e.transpose();
@@ -170,6 +186,7 @@ class MassChain final : public ForceElement {
       const int rx = 12 + 2 * (k - 1), rv = rx + 1;
       m(rx, states + 2 * (k - 1)) += jac.cj;
       m(rx, states + 2 * (k - 1) + 1) -= 1.0;
+      add_uj(rx, 1.0);
       m(rv, states + 2 * (k - 1) + 1) += jac.cj * p_.mass[k - 1];
       add_segment(rv, k - 1, -1.0);
       add_segment(rv, k, 1.0);
@@ -257,8 +274,13 @@ void common_keys(ElementContext& c, ChainParameters& p) {
     if (static_cast<int>(offset.size()) != n)
       t.fail("initial_displacement", "needs one value per mass (" + std::to_string(n) + ")");
   }
-  for (int k = 1; k <= n; ++k)
+  const Vec3 d = c.initial[0].position - c.initial[1].position;
+  const Vec3 e = l0 > 1e-12 ? Vec3(d / l0) : Vec3::UnitZ();
+  const double ui = e.dot(c.initial[0].velocity), uj = e.dot(c.initial[1].velocity);
+  for (int k = 1; k <= n; ++k) {
     p.initial.push_back(p.end_height + k * (l0 - 2 * p.end_height) / (n + 1) + offset[k - 1]);
+    p.initial_velocity.push_back(uj + (ui - uj) * k / (n + 1));
+  }
 }
 
 }  // namespace
