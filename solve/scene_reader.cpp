@@ -223,8 +223,10 @@ void SceneReader::read_driver(const Table& t) {
                                         : t.number_or("phase_deg", 0.0, Range::magnitude(bounds::kAngleDeg)) * kPi / 180;
   std::function<double(double)> theta, rate;
   constexpr double kRpm = 2 * kPi / 60.0;
-  if (t.has("rpm") && t.has("table")) t.fail("table", "give either 'rpm' (constant) or 'table' (rpm against time)");
-  if (t.has("rpm")) {
+  // The lift driver turns at a constant speed: its `table` and `file` keys are the cam profile's.
+  if (type == "speed" && t.has("rpm") && t.has("table"))
+    t.fail("table", "give either 'rpm' (constant) or 'table' (rpm against time)");
+  if (type == "lift" || t.has("rpm")) {
     const double w = t.number("rpm", Range::magnitude(bounds::kRpm)) * kRpm;
     theta = [=](double time) { return theta0 + w * time; };
     rate = [=](double) { return w; };

@@ -157,6 +157,13 @@ TEST(LiftDriver, FollowsTheTangentCamLift) {
   }
   std::printf("measured: lift error %.3g m, peak lift %.6g m (expected %.6g)\n", err, peak, kD + kRn - kRb);
   EXPECT_LT(err, 1e-9);                     // the constraint holds to the integrator's tolerance
+  // The driver's work (the power of its reaction, /energy/input) is the spring's energy: the balance closes to
+  // the accuracy of the reaction (an index-2 multiplier, multiplier_atol 1e-3 N): 1e-4 of the input.
+  const Eigen::VectorXd input = signal(file, "energy/input"), balance = signal(file, "energy/balance");
+  std::printf("measured: energy balance %.3g J of input up to %.3g J\n", balance.cwiseAbs().maxCoeff(),
+              input.cwiseAbs().maxCoeff());
+  EXPECT_GT(input.cwiseAbs().maxCoeff(), 0.1);
+  EXPECT_LT(balance.cwiseAbs().maxCoeff(), 1e-4 * input.cwiseAbs().maxCoeff());
   EXPECT_NEAR(peak, kD + kRn - kRb, 1e-6);  // nose top reached (sampled at 0.01 deg)
 }
 
