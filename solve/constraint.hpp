@@ -36,6 +36,9 @@ class Constraint {
  public:
   virtual ~Constraint() = default;
   virtual std::string type() const = 0;
+  /// True for a prescribed motion (phi_t != 0: a speed or lift driver), whose reaction does work on the
+  /// system: the model counts its power lambda . phi_t in /energy/input.
+  virtual bool is_driver() const { return false; }
   virtual int size() const = 0;
   /// Names of the equations, for the report of redundant ones (e.g. "point-x", "dot1(z_i,x_j)").
   virtual std::vector<std::string> equation_names() const = 0;
@@ -58,6 +61,7 @@ class AngleDriver final : public Constraint {
   AngleDriver(std::function<double(double)> theta, std::function<double(double)> theta_rate)
       : theta_(std::move(theta)), rate_(std::move(theta_rate)) {}
   std::string type() const override { return "speed-driver"; }
+  bool is_driver() const override { return true; }
   int size() const override { return 1; }
   std::vector<std::string> equation_names() const override { return {"angle"}; }
   void evaluate(double t, const MarkerMotion& i, const MarkerMotion& j, ConstraintEquations& out) const override;
@@ -79,6 +83,7 @@ class LiftDriver final : public Constraint {
              std::function<double(double)> theta_rate, double offset)
       : lift_(std::move(lift)), theta_(std::move(theta)), rate_(std::move(theta_rate)), offset_(offset) {}
   std::string type() const override { return "lift-driver"; }
+  bool is_driver() const override { return true; }
   int size() const override { return 1; }
   std::vector<std::string> equation_names() const override { return {"lift"}; }
   void evaluate(double t, const MarkerMotion& i, const MarkerMotion& j, ConstraintEquations& out) const override;

@@ -431,7 +431,7 @@ double Model::driver_power(double t, const double* y) const {
   double p = 0;
   for (std::size_t ci = 0; ci < constraints.size(); ++ci) {
     const auto& c = constraints[ci];
-    if (c.constraint->type() != "speed-driver" && c.constraint->type() != "lift-driver") continue;  // rheonomic
+    if (!c.constraint->is_driver()) continue;
     const MarkerMotion mi = marker_motion(c.i, y), mj = marker_motion(c.j, y);
     ConstraintEquations& eq = ws_->perturbed[ci];
     eq.phi_t.setZero();
