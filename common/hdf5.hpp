@@ -51,7 +51,7 @@ class Handle {
 /// Options of a chunked, compressed dataset.
 struct Chunking {
   std::vector<hsize_t> chunk;  ///< chunk dims; empty: chosen automatically
-  int deflate_level = 4;       ///< gzip level 0..9 (0: no compression)
+  int deflate_level = 1;       ///< gzip level 0..9 (0: no compression); 1: hdf5.cpp says why
 };
 
 class Group;

@@ -97,9 +97,44 @@ class Joint final : public Constraint {
   int size_;  // equation_names() builds strings: not for the residual's loops
 };
 
+// |d| = L as (d.d - L^2) / (2 L): d/dt = d . (v_i - v_j) / L.
+class DistanceJoint final : public Constraint {
+ public:
+  explicit DistanceJoint(double length) : length_(length) {}
+  std::string type() const override { return "distance"; }
+  int size() const override { return 1; }
+  std::vector<std::string> equation_names() const override { return {"|d|-L"}; }
+  void evaluate(double, const MarkerMotion& i, const MarkerMotion& j, ConstraintEquations& out) const override {
+    const Vec3 d = i.position - j.position;
+    out.phi[0] = (d.squaredNorm() - length_ * length_) / (2.0 * length_);
+    out.di.block<1, 3>(0, 0) = d.transpose() / length_;
+    out.dj.block<1, 3>(0, 0) = -d.transpose() / length_;
+  }
+
+ private:
+  double length_;
+};
+
+class InPlaneJoint final : public Constraint {
+ public:
+  explicit InPlaneJoint(double offset) : offset_(offset) {}
+  std::string type() const override { return "in-plane"; }
+  int size() const override { return 1; }
+  std::vector<std::string> equation_names() const override { return {"z_j.d"}; }
+  void evaluate(double, const MarkerMotion& i, const MarkerMotion& j, ConstraintEquations& out) const override {
+    dot2(i, j, j.axes.col(2), out, 0);
+    out.phi[0] -= offset_;
+  }
+
+ private:
+  double offset_;
+};
+
 }  // namespace
 
 std::unique_ptr<Constraint> make_joint(JointType type) { return std::make_unique<Joint>(type); }
+std::unique_ptr<Constraint> make_distance_joint(double length) { return std::make_unique<DistanceJoint>(length); }
+std::unique_ptr<Constraint> make_in_plane_joint(double offset) { return std::make_unique<InPlaneJoint>(offset); }
 
 double relative_angle(const MarkerMotion& i, const MarkerMotion& j) {
   const Vec3 xi = i.axes.col(0);

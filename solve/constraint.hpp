@@ -50,6 +50,16 @@ enum class JointType { kFixed, kRevolute, kSpherical, kPrismatic, kCylindrical }
 /// An ideal joint between marker frames i and j (axis: the markers' z).
 std::unique_ptr<Constraint> make_joint(JointType type);
 
+/// Distance joint (a rigid massless link with a ball at each end, e.g. a rigid pushrod): |p_i - p_j| = L,
+/// written (d.d - L^2) / (2 L) = 0 with d = p_i - p_j, smooth everywhere and in metres near the solution; its
+/// multiplier is the link's force along d (N, positive pulling the markers together). 1 equation.
+std::unique_ptr<Constraint> make_distance_joint(double length);
+
+/// In-plane joint (point on plane: a closed sliding contact, e.g. a rocker's foot on a valve tip with the
+/// lash taken up): the point of marker i keeps the distance `offset` (m) from the x-y plane of marker j,
+/// z_j . (p_i - p_j) = offset (the dot-2 primitive). 1 equation.
+std::unique_ptr<Constraint> make_in_plane_joint(double offset);
+
 /// The relative rotation angle (rad) of marker i about marker j's z axis: atan2(x_i . y_j, x_i . x_j).
 double relative_angle(const MarkerMotion& i, const MarkerMotion& j);
 

@@ -190,10 +190,23 @@ class SceneReader {
                                                            {"spherical", JointType::kSpherical},
                                                            {"prismatic", JointType::kPrismatic},
                                                            {"cylindrical", JointType::kCylindrical}};
-    const std::string type = t.choice("type", {"fixed", "revolute", "spherical", "prismatic", "cylindrical"});
+    const std::string type =
+        t.choice("type", {"fixed", "revolute", "spherical", "prismatic", "cylindrical", "distance", "in-plane"});
     const MarkerRef i = marker(t, "i"), j = marker(t, "j");
+    std::unique_ptr<Constraint> c;
+    if (type == "distance") {
+      // The link's length: given, or the markers' initial distance (the geometry as drawn).
+      const double initial = (initial_motion(i).position - initial_motion(j).position).norm();
+      const double length = t.optional_number("length", Range::positive()).value_or(initial);
+      if (!(length > 0)) t.fail("i", "the markers of a distance joint start at one point: give its 'length' (m)");
+      c = make_distance_joint(length);
+    } else if (type == "in-plane") {
+      c = make_in_plane_joint(t.optional_number("offset", Range::magnitude(1e3)).value_or(0.0));
+    } else {
+      c = make_joint(types.at(type));
+    }
     t.finish();
-    add_constraint(t, name, make_joint(types.at(type)), i, j);
+    add_constraint(t, name, std::move(c), i, j);
   }
 
   void read_driver(const Table& t);
