@@ -3,6 +3,7 @@
 
     valvetrain_report.py DIR                  # DIR: a sweep folder (plan.json, points/NNN/results.h5)
     valvetrain_report.py DIR --spring-study   # the spring design study: KPIs, constraints, the best design
+    valvetrain_report.py DIR --kinematic K1.h5 K2.h5   # with the kinematic model run at two cam speeds
 
 Reads solve's results of every point (the last whole cam revolution: crank_angle_deg is the cam angle)
 and writes DIR/kpi.txt (the table), DIR/kpi.csv, DIR/plots/{kpis,lift,cam_force}.png and DIR/SUMMARY.txt.
@@ -34,6 +35,16 @@ mean_diameter D; installed length 60 mm and valve lift 14 mm as in the scene), c
 The best design: feasible, with the smallest largest cam force (Hertz pressure, friction and drive torque fall
 with it).
 
+Kinematic model (--kinematic, two runs of testdata/valvetrain/valvetrain_kinematic.toml at different speeds):
+  kinematic lift      the valve's displacement less the lash (--lash, 0.5 mm) where positive (the paper's kinematic
+                      model: "the cold lash is specified as a constant value"); drawn under each dynamic lift
+  lift deviation      per speed: the largest |dynamic - kinematic lift| over the main event (mm), column "dlift"
+  kinematic separation  a rigid chain's cam force is F(theta) = A(theta) + B(theta) n^2 at constant speed n (the
+                      spring, gravity and return spring in A, the inertia in B): two speeds give A and B at every
+                      cam angle, and the follower leaves the cam first at n = min sqrt(-A/B) over the angles with
+                      B < 0 - the closed form of the issue's verification (kinematic acceleration, moving mass,
+                      spring force), to set beside the dynamic model's separation speed
+
 The separation speed is where the smallest cam force over the main event first reaches 0: from the last two
 points with contact, as F = A - B n^2 (the quasi-static force falls with the inertia, as the speed squared).
 """
@@ -56,6 +67,44 @@ COLUMNS = [  # key, header, unit, format
     ("torque_max", "T cam max", "N m", "{:.1f}"), ("torque_mean", "T cam mean", "N m", "{:.2f}"),
     ("spring_max", "F spring", "N", "{:.0f}"), ("surge_mm", "surge x3", "mm", "{:.3f}"),
 ]
+KINEMATIC_COLUMN = ("lift_dev_mm", "dlift", "mm", "{:.3f}")
+
+
+def last_revolution(r) -> tuple:
+    """The samples of the last whole cam revolution [360 k - 360, 360 k) and their angles from its start."""
+    angle = r["crank_angle_deg"][:]
+    stop = 360.0 * math.floor(angle[-1] / 360.0 + 1e-9)
+    last = (angle >= stop - 360.0) & (angle < stop)
+    return last, angle[last] - (stop - 360.0)
+
+
+def kinematic(files: list, lash: float) -> dict:
+    """The kinematic model from runs at two speeds (module docstring): lift against cam angle, the separation
+    speed of the rigid chain (engine rpm) and the cam angle where it starts."""
+    runs = []
+    for f in files:
+        with h5py.File(f, "r") as r:
+            if r.attrs.get("status") != "complete":
+                raise RuntimeError(f"{f}: status {r.attrs.get('status')}")
+            last, a = last_revolution(r)
+            t, angle = r["time"][:], r["crank_angle_deg"][:]
+            cam_rpm = (angle[-1] - angle[0]) / (t[-1] - t[0]) / 6.0
+            y = r["bodies/valve/position"][:, 1]
+            disp = (y[0] - y)[last]
+            force = r["joints/cam/reaction_force"][:, 1][last]  # the cam on the tappet, along the bore (+y)
+            runs.append((cam_rpm, a, disp, force))
+    (n1, a1, d1, f1), (n2, a2, _, f2) = sorted(runs)[:2]
+    if abs(n2 - n1) < 1e-6 * n2:
+        raise RuntimeError("--kinematic needs runs at two different speeds")
+    f2 = np.interp(a1, a2, f2)
+    b = (f2 - f1) / (n2 ** 2 - n1 ** 2)
+    a = f1 - b * n1 ** 2
+    lift = np.maximum(0.0, d1 - lash)
+    pulls = (b < 0) & (lift > 0)
+    n_sep = np.where(pulls, np.sqrt(np.maximum(0.0, -a / np.where(pulls, b, -1.0))), np.inf)
+    k = int(np.argmin(n_sep))
+    return {"angle": a1, "lift": lift, "separation_rpm": 2.0 * n_sep[k], "separation_deg": a1[k],
+            "lift_max_mm": 1e3 * lift.max()}
 
 
 def kpis(results: Path) -> dict:
@@ -65,10 +114,7 @@ def kpis(results: Path) -> dict:
             raise RuntimeError(f"{results}: status {r.attrs.get('status')}")
         angle = r["crank_angle_deg"][:]
         t = r["time"][:]
-        # the last whole revolution [360 k - 360, 360 k) (k the last whole number of revolutions reached)
-        stop = 360.0 * math.floor(angle[-1] / 360.0 + 1e-9)
-        last = (angle >= stop - 360.0) & (angle < stop)
-        a = angle[last] - (stop - 360.0)
+        last, a = last_revolution(r)  # the last whole revolution
         y = r["bodies/valve/position"][:, 1]
         lift = (y[0] - y)[last]
         g = lambda name: r[name][:][last]
@@ -172,6 +218,10 @@ def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("dir", type=Path)
     ap.add_argument("--spring-study", action="store_true", help="the spring design study's constraints and choice")
+    ap.add_argument("--kinematic", nargs=2, type=Path, metavar="K.h5",
+                    help="results of valvetrain_kinematic.toml at two cam speeds: kinematic lift, the lift's "
+                         "deviation per speed and the rigid chain's separation speed")
+    ap.add_argument("--lash", type=float, default=0.0005, help="valve lash (m) for the kinematic lift (0.0005)")
     args = ap.parse_args()
     out = args.dir
     plan = json.loads((out / "plan.json").read_text())
@@ -195,24 +245,36 @@ def main() -> int:
         print(text, end="")
         return 1 if failed else 0
     rows.sort(key=lambda k: k["engine_rpm"])
-    head = "".join(f"{h:>11s}" for _, h, _, _ in COLUMNS)
-    units = "".join(f"{'[' + u + ']':>11s}" for _, _, u, _ in COLUMNS)
+    kin, columns = None, list(COLUMNS)
+    if args.kinematic:
+        kin = kinematic(args.kinematic, args.lash)
+        columns.append(KINEMATIC_COLUMN)
+        for k in rows:
+            event = k["_lift"] > 0.1 * k["_lift"].max()
+            k["_kin_lift"] = np.interp(k["_angle"], kin["angle"], kin["lift"])
+            k["lift_dev_mm"] = 1e3 * np.abs(k["_lift"] - k["_kin_lift"])[event].max()
+    head = "".join(f"{h:>11s}" for _, h, _, _ in columns)
+    units = "".join(f"{'[' + u + ']':>11s}" for _, _, u, _ in columns)
     lines = [f"Valvetrain KPIs per point ({plan['name']}, last cam revolution; docs/valvetrain.md section 6)",
              head, units]
     for k in rows:
-        lines.append("".join(f"{fmt.format(k[key]):>11s}" for key, _, _, fmt in COLUMNS))
+        lines.append("".join(f"{fmt.format(k[key]):>11s}" for key, _, _, fmt in columns))
     sep = separation_speed(rows)
     lines.append("")
     lines.append("separation (the smallest cam force over the main event reaches 0): " +
                  (f"at {sep:.0f} rpm engine speed" if math.isfinite(sep) else
                   f"none up to {rows[-1]['engine_rpm']:.0f} rpm"))
+    if kin:
+        lines.append(f"kinematic model (rigid chain, valvetrain_kinematic.toml): largest lift {kin['lift_max_mm']:.3f} mm; "
+                     f"the follower would leave the cam at {kin['separation_rpm']:.0f} rpm engine speed "
+                     f"(cam angle {kin['separation_deg']:.1f} deg)")
     lines += [f"FAILED: {f}" for f in failed]
     text = "\n".join(lines) + "\n"
     (out / "kpi.txt").write_text(text)
     with open(out / "kpi.csv", "w") as f:
-        f.write(",".join(["point"] + [f"{key} [{u}]" for key, _, u, _ in COLUMNS]) + "\n")
+        f.write(",".join(["point"] + [f"{key} [{u}]" for key, _, u, _ in columns]) + "\n")
         for k in rows:
-            f.write(",".join([str(k["_point"])] + [f"{k[key]:.6g}" for key, _, _, _ in COLUMNS]) + "\n")
+            f.write(",".join([str(k["_point"])] + [f"{k[key]:.6g}" for key, _, _, _ in columns]) + "\n")
     plots = out / "plots"
     plots.mkdir(exist_ok=True)
     try:
@@ -240,12 +302,24 @@ def main() -> int:
             for k in rows:
                 scale = 1e3 if key == "_lift" else 1.0
                 a_.plot(k["_angle"], scale * k[key], lw=0.8, label=f"{k['engine_rpm']:.0f} rpm")
+            if key == "_lift" and kin:
+                a_.plot(kin["angle"], 1e3 * kin["lift"], "k--", lw=1.2, label="kinematic")
             a_.set_xlabel("cam angle [deg] (last revolution)")
             a_.set_ylabel(label)
             a_.grid(True)
             a_.legend(fontsize=7)
             fig.tight_layout()
             fig.savefig(plots / f"{name}.png", dpi=110)
+        if kin:
+            fig, a_ = plt.subplots(figsize=(10, 5))
+            for k in rows:
+                a_.plot(k["_angle"], 1e3 * (k["_lift"] - k["_kin_lift"]), lw=0.8, label=f"{k['engine_rpm']:.0f} rpm")
+            a_.set_xlabel("cam angle [deg] (last revolution)")
+            a_.set_ylabel("dynamic - kinematic valve lift [mm]")
+            a_.grid(True)
+            a_.legend(fontsize=7)
+            fig.tight_layout()
+            fig.savefig(plots / "lift_deviation.png", dpi=110)
         plt.close("all")
     except ImportError:
         lines.append("(no matplotlib: no plots)")
