@@ -224,6 +224,13 @@ Eigen::VectorXd Model::error_test_mask() const {
   return m;
 }
 
+Eigen::VectorXd Model::velocity_mask() const {
+  Eigen::VectorXd m = Eigen::VectorXd::Zero(size());
+  for (std::size_t b = 0; b < bodies.size(); ++b)
+    m.segment(velocity_offset(static_cast<int>(b)), bodies[b]->velocity_count()).setOnes();
+  return m;
+}
+
 std::string Model::describe_state(int k) const {
   for (std::size_t b = 0; b < bodies.size(); ++b) {
     const int o = body_offset_[b], nq = bodies[b]->position_count();

@@ -109,6 +109,8 @@ class Model {
   Eigen::VectorXd differential_mask() const;
   /// 1 for the variables in the integrators' error test: the differential ones less the energy integrals.
   Eigen::VectorXd error_test_mask() const;
+  /// 1 on the bodies' velocity coordinates w, 0 elsewhere (the `velocity_atol` of the integrator).
+  Eigen::VectorXd velocity_mask() const;
   /// Per state, a human-readable owner ("body crank: w[3]", "joint pin: lambda point-x") for messages.
   std::string describe_state(int k) const;
 

@@ -348,6 +348,7 @@ void SceneReader::read_integrator(const Table& root) {
   s.atol = t->number_or("atol", s.atol, Range{0.0, 1.0, true, false});
   s.multiplier_atol =
       t->number_or("multiplier_atol", s.multiplier_atol, Range{0.0, bounds::kCoefficient, true, false});
+  s.velocity_atol = t->number_or("velocity_atol", s.velocity_atol, Range{0.0, 1e3, true, false});
   s.max_step = t->number_or("max_step", s.max_step, Range::closed(0.0, bounds::kTime));
   s.initial_step = t->number_or("initial_step", s.initial_step, Range::closed(0.0, bounds::kTime));
   s.max_order = static_cast<int>(t->optional_integer("max_order", Range::closed(1, 5)).value_or(s.max_order));

@@ -87,6 +87,21 @@ TEST(SolveOscillator, IdaSteadyStateAmplitudeAndPhaseWithin1e6) {
   EXPECT_LT(e, 1e-6);
 }
 
+// velocity_atol loosens the velocities' absolute tolerance only: fewer steps, at a price in the positions that
+// is bounded here (velocity errors feed the phase over the 7 periods: 1.5e-4 against 3e-5 of the amplitude).
+TEST(SolveOscillator, VelocityAtolTakesFewerStepsPositionsStayAccurate) {
+  RunSummary tight, loose;
+  const std::string base = "[integrator]\nrtol = 1e-6\natol = 1e-9\n";
+  const double e_tight = oscillator_error(run_text(oscillator_scene(base), "osc_vatol1", &tight));
+  const double e_loose =
+      oscillator_error(run_text(oscillator_scene(base + "velocity_atol = 1e-5\n"), "osc_vatol2", &loose));
+  std::printf("measured: velocity_atol 1e-5: %ld steps (error %.2e) against %ld (error %.2e)\n",
+              static_cast<long>(loose.statistics.steps), e_loose, static_cast<long>(tight.statistics.steps), e_tight);
+  EXPECT_LT(loose.statistics.steps, 0.9 * tight.statistics.steps);
+  EXPECT_LT(e_tight, 5e-5);
+  EXPECT_LT(e_loose, 5e-4);  // of the amplitude, 1 s of a 7 Hz steady state (velocities 0.52 m/s peak)
+}
+
 TEST(SolveOscillator, GeneralizedAlphaSecondOrderConvergence) {
   // Second order: halving the step divides the error by about 4 (rho_inf = 0.9).
   const auto e1 =
