@@ -1,0 +1,143 @@
+#!/usr/bin/python3
+"""Valvetrain benchmark (issue 13): CPU time against real time and against accuracy (work-precision).
+
+    bench/valvetrain_bench.py [--build build] [--out out/bench/valvetrain] [--cam-rpm 975] [--quick]
+
+For the single-valve scene (testdata/valvetrain/valvetrain.toml) and the bridge scene with two valves
+(valvetrain_bridge.toml) at a cam speed (default 975 rpm: 1950 rpm engine, a heavy-duty diesel's rated speed),
+two cam revolutions each (the KPIs read the second), with the integrator settings below, it prints:
+  - CPU seconds per cam revolution (solve's own /solver/statistics wall_s / 2) and that against real time
+    (one revolution lasts 60 / rpm s): < 1 is faster than real time;
+  - the error of each KPI against a reference run of the same scene (IDA, rtol 1e-9, atol 1e-12): the largest
+    valve lift, the largest and the smallest cam force over the event, the valve's seating velocity;
+and writes OUT/work_precision.png (CPU per revolution against the largest KPI error, per scene and method)
+and OUT/valvetrain_bench.csv. The output rate is 20 kHz for every run (output costs are in the CPU time).
+"""
+import argparse
+import csv
+import math
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import h5py
+import numpy as np
+
+ROOT = Path(__file__).resolve().parent.parent
+
+SETTINGS = [  # label, [integrator] table
+    ("reference", "rtol = 1e-9\natol = 1e-12\nmax_step = 5e-5\n"),
+    ("IDA 1e-6 (scene)", "rtol = 1e-6\natol = 1e-9\nvelocity_atol = 1e-5\nmax_step = 5e-5\n"),
+    ("IDA 1e-6, no velocity_atol", "rtol = 1e-6\natol = 1e-9\nmax_step = 5e-5\n"),
+    ("IDA 1e-5", "rtol = 1e-5\natol = 1e-8\nvelocity_atol = 1e-4\nmax_step = 5e-5\n"),
+    ("IDA 1e-4", "rtol = 1e-4\natol = 1e-7\nvelocity_atol = 1e-3\nmax_step = 5e-5\n"),
+    ("IDA 1e-3", "rtol = 1e-3\natol = 1e-6\nvelocity_atol = 1e-2\nmax_step = 5e-5\n"),
+    ("g-alpha 5 us", 'method = "generalized-alpha"\nstep = 5e-6\nrho_inf = 0.8\n'),
+    ("g-alpha 10 us", 'method = "generalized-alpha"\nstep = 1e-5\nrho_inf = 0.8\n'),
+    ("g-alpha 20 us", 'method = "generalized-alpha"\nstep = 2e-5\nrho_inf = 0.8\n'),
+]
+
+SCENES = {  # name: file, valve body, cam force, seat
+    "single valve": ("valvetrain.toml", "valve", "cam", "seat"),
+    "bridge, two valves": ("valvetrain_bridge.toml", "valve1", "cam", "seat1"),
+}
+
+
+def scene_text(path: Path, cam_rpm: float, integrator: str) -> str:
+    text = path.read_text()
+    text = re.sub(r"^rpm = [0-9.]+ ", f"rpm = {cam_rpm} ", text, flags=re.M)
+    text = text[:text.index("[integrator]")] + "[integrator]\n" + integrator + "\n[output]\nsample_rate_hz = 20000\n"
+    return text
+
+
+def kpis(results: Path, valve: str, cam: str, seat: str) -> dict:
+    with h5py.File(results, "r") as r:
+        angle = r["crank_angle_deg"][:]
+        last = (angle >= 360.0) & (angle < 720.0)
+        y = r[f"bodies/{valve}/position"][:, 1]
+        lift = (y[0] - y)[last]
+        fcam = r[f"forces/{cam}/normal_force"][:][last]
+        gap, closing = r[f"forces/{seat}/gap"][:][last], r[f"forces/{seat}/closing_speed"][:][last]
+        event = lift > 0.1 * lift.max()
+        end = np.nonzero(event)[0][-1]
+        land = next((i for i in range(end, len(gap) - 1) if gap[i] > 0 >= gap[i + 1]), None)
+        st = r["solver/statistics"].attrs
+        return {"lift_mm": 1e3 * lift.max(), "fcam_max": fcam.max(), "fcam_min": fcam[event].min(),
+                "v_seat": closing[land] if land is not None else math.nan, "cpu": float(st["wall_s"]),
+                "steps": int(st["steps"])}
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--build", type=Path, default=ROOT / "build")
+    ap.add_argument("--out", type=Path, default=ROOT / "out/bench/valvetrain")
+    ap.add_argument("--cam-rpm", type=float, default=975.0)
+    ap.add_argument("--quick", action="store_true", help="the single-valve scene only")
+    args = ap.parse_args()
+    solve = args.build / "solve/solve"
+    args.out.mkdir(parents=True, exist_ok=True)
+    rev_s = 60.0 / args.cam_rpm
+    rows = []
+    for scene, (file, valve, cam, seat) in SCENES.items():
+        if args.quick and scene != "single valve":
+            continue
+        ref = None
+        print(f"\n{scene} ({file}) at {args.cam_rpm:.0f} cam rpm ({2 * args.cam_rpm:.0f} engine rpm); one cam "
+              f"revolution lasts {1e3 * rev_s:.1f} ms")
+        print(f"{'setting':30s} {'steps':>7s} {'CPU/rev':>9s} {'x real':>7s} {'lift':>8s} {'Fcam max':>9s} "
+              f"{'Fcam min':>9s} {'v seat':>7s} {'max err':>8s}")
+        print(f"{'':30s} {'':>7s} {'[s]':>9s} {'time':>7s} {'[mm]':>8s} {'[N]':>9s} {'[N]':>9s} {'[m/s]':>7s} "
+              f"{'[%]':>8s}")
+        for label, integ in SETTINGS:
+            toml = args.out / f"{file[:-5]}_{len(rows)}.toml"
+            toml.write_text(scene_text(ROOT / "testdata/valvetrain" / file, args.cam_rpm, integ))
+            h5 = toml.with_suffix(".h5")
+            p = subprocess.run([str(solve), str(toml), "-o", str(h5), "-q"], capture_output=True, text=True)
+            if p.returncode != 0:
+                print(f"{label:30s} failed: {p.stderr.strip().splitlines()[-1] if p.stderr.strip() else p.returncode}")
+                continue
+            k = kpis(h5, valve, cam, seat)
+            if ref is None:
+                ref = k
+            err = max(abs(k[q] - ref[q]) / abs(ref[q]) for q in ("lift_mm", "fcam_max", "fcam_min", "v_seat"))
+            cpu_rev = k["cpu"] / 2
+            rows.append({"scene": scene, "setting": label, "steps": k["steps"], "cpu_per_rev_s": cpu_rev,
+                         "real_time_ratio": cpu_rev / rev_s, "max_kpi_error": err, **k})
+            print(f"{label:30s} {k['steps']:7d} {cpu_rev:9.3f} {cpu_rev / rev_s:7.1f} {k['lift_mm']:8.3f} "
+                  f"{k['fcam_max']:9.1f} {k['fcam_min']:9.1f} {k['v_seat']:7.3f} {100 * err:8.3f}")
+    with open(args.out / "valvetrain_bench.csv", "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
+        w.writeheader()
+        w.writerows(rows)
+    try:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        fig, ax = plt.subplots(figsize=(8, 5.5))
+        for scene, marker in zip(SCENES, "os"):
+            for method, color in (("IDA", "C0"), ("g-alpha", "C1")):
+                pts = [(r["max_kpi_error"], r["cpu_per_rev_s"], r["setting"]) for r in rows
+                       if r["scene"] == scene and r["setting"].startswith(method) and r["max_kpi_error"] > 0]
+                if pts:
+                    ax.loglog([p[0] * 100 for p in pts], [p[1] for p in pts], marker + "-", color=color,
+                              label=f"{scene}: {method}")
+                    for e, c, lab in pts:
+                        ax.annotate(lab.replace(method, "").strip(), (e * 100, c), fontsize=6)
+        ax.axhline(rev_s, color="k", lw=0.8, ls="--")
+        ax.text(ax.get_xlim()[0], rev_s * 1.05, " real time", fontsize=8)
+        ax.set_xlabel("largest KPI error against the reference [%] (lift, cam force max/min, seating velocity)")
+        ax.set_ylabel("CPU per cam revolution [s] (one core)")
+        ax.set_title(f"valvetrain work-precision, {args.cam_rpm:.0f} cam rpm")
+        ax.grid(True, which="both", lw=0.3)
+        ax.legend(fontsize=8)
+        fig.tight_layout()
+        fig.savefig(args.out / "work_precision.png", dpi=110)
+        print(f"\nwrote {args.out / 'work_precision.png'}, {args.out / 'valvetrain_bench.csv'}")
+    except ImportError:
+        print("(no matplotlib: no chart)")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
