@@ -24,10 +24,7 @@ constexpr hsize_t kAutoChunkThreshold = 4096;
 // Target number of values in one automatic chunk (128 KiB of doubles, well inside HDF5's 1 MiB
 // default chunk cache, so appending row by row does not re-read and re-compress chunks).
 constexpr hsize_t kChunkTargetValues = 16384;
-// gzip level 1: measured on the valvetrain scene at 40 kHz output (18 MB of doubles per 0.1 s simulated),
-// level 4 spent 0.23 s of a 0.48 s run compressing, level 1 0.13 s, for a file 3.5 % larger (5.67 against
-// 5.48 MB; uncompressed 18.1 MB). Shuffle does most of the work on doubles; higher levels add little.
-constexpr int kDefaultDeflateLevel = 1;
+constexpr int kDefaultDeflateLevel = 4;  // time histories: level 1 (Group::kTimeHistory, hdf5.hpp)
 
 // No HDF5 exit handler. HDF5 1.10 keeps the id of an object whose close failed (a full disk: H5Fclose,
 // H5Dclose cannot write what they hold) in its tables, pointing at memory it has already freed; its exit

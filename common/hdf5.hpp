@@ -51,7 +51,7 @@ class Handle {
 /// Options of a chunked, compressed dataset.
 struct Chunking {
   std::vector<hsize_t> chunk;  ///< chunk dims; empty: chosen automatically
-  int deflate_level = 1;       ///< gzip level 0..9 (0: no compression); 1: hdf5.cpp says why
+  int deflate_level = 4;       ///< gzip level 0..9 (0: no compression)
 };
 
 class Group;
@@ -119,9 +119,13 @@ class Group {
   void write(std::string_view name, const std::string& value);
 
   /// An extendible, chunked, compressed 2-D dataset (unlimited rows, fixed columns).
-  AppendableDataset create_appendable(std::string_view name, hsize_t columns, const Chunking& chunking = {});
+  /// Time histories are compressed at gzip level 1 (kTimeHistory): measured on the valvetrain at 40 kHz output
+  /// (18 MB of doubles per 0.1 s simulated), level 4 spent 0.23 s of a 0.48 s run compressing, level 1 0.13 s,
+  /// for a file 3.5 % larger. Shuffle does most of the work on doubles.
+  static inline const Chunking kTimeHistory{{}, 1};
+  AppendableDataset create_appendable(std::string_view name, hsize_t columns, const Chunking& chunking = kTimeHistory);
   /// An extendible 1-D dataset (a time history of one scalar): shape (n,), one value per row.
-  AppendableDataset create_appendable_vector(std::string_view name, const Chunking& chunking = {});
+  AppendableDataset create_appendable_vector(std::string_view name, const Chunking& chunking = kTimeHistory);
   /// Reopen a dataset made by create_appendable(_vector) to append more rows (restart with File::open_append).
   AppendableDataset open_appendable(std::string_view name);
 
