@@ -1,3 +1,7 @@
 # Flexible bodies in solve (included by tests/solve/CMakeLists.txt).
 nvh_add_test(solve_flexible_tests SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_flexible.cpp
   ${CMAKE_CURRENT_LIST_DIR}/test_jacobian_flexible.cpp LIBS nvh_solve nvh_condense)
+# The valvetrain's flexible rocker (testdata/valvetrain/rocker.toml): condensed in the test, then run in the
+# valvetrain scene against the rigid rocker.
+nvh_add_test(flexible_rocker_tests SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_flexible_rocker.cpp
+  LIBS nvh_solve nvh_condense)
