@@ -107,25 +107,26 @@ def kinematic(files: list, lash: float) -> dict:
             "lift_max_mm": 1e3 * lift.max()}
 
 
-def kpis(results: Path) -> dict:
-    """The KPIs of one results file over its last cam revolution."""
+def kpis(results: Path, valve: str = "valve", seat: str = "seat", spring: str = "valve_spring") -> dict:
+    """The KPIs of one results file over its last cam revolution. valve, seat, spring: the names of the valve
+    body and its seat and spring elements (valvetrain_bridge.toml: valve1, seat1, valve1_spring)."""
     with h5py.File(results, "r") as r:
         if r.attrs.get("status") != "complete":
             raise RuntimeError(f"{results}: status {r.attrs.get('status')}")
         angle = r["crank_angle_deg"][:]
         t = r["time"][:]
         last, a = last_revolution(r)  # the last whole revolution
-        y = r["bodies/valve/position"][:, 1]
+        y = r[f"bodies/{valve}/position"][:, 1]
         lift = (y[0] - y)[last]
         g = lambda name: r[name][:][last]
         fcam, sep = g("forces/cam/normal_force"), g("forces/cam/separated")
-        seat_gap, closing = g("forces/seat/gap"), g("forces/seat/closing_speed")
+        seat_gap, closing = g(f"forces/{seat}/gap"), g(f"forces/{seat}/closing_speed")
         event = lift > 0.1 * lift.max()
         k = {"engine_rpm": 2.0 * (angle[-1] - angle[0]) / (t[-1] - t[0]) / 6.0, "lift_mm": 1e3 * lift.max(),
              "cam_force_min": fcam[event].min(), "cam_force_max": fcam.max(),
              "separation_deg": float(np.sum(sep[event] > 0) * (a[1] - a[0])),
              "hertz_cam": 1e-6 * g("forces/cam/hertz_pressure").max(),
-             "hertz_seat": 1e-6 * g("forces/seat/hertz_pressure").max()}
+             "hertz_seat": 1e-6 * g(f"forces/{seat}/hertz_pressure").max()}
         # The first landing after the main event: the seat gap crosses 0 downwards after the last event sample.
         end = np.nonzero(event)[0][-1]
         land = next((i for i in range(end, len(a) - 1) if seat_gap[i] > 0 >= seat_gap[i + 1]), None)
@@ -141,8 +142,8 @@ def kpis(results: Path) -> dict:
         k["pivot_max"] = np.linalg.norm(r["joints/rocker_shaft/reaction_force"][:][last], axis=1).max()
         torque = g("forces/cam/cam_torque")
         k["torque_max"], k["torque_mean"] = np.abs(torque).max(), torque.mean()
-        k["spring_max"] = g("forces/valve_spring/force_i").max()
-        k["surge_mm"] = 1e3 * np.abs(g("forces/valve_spring/x_3")).max()
+        k["spring_max"] = g(f"forces/{spring}/force_i").max()
+        k["surge_mm"] = 1e3 * np.abs(g(f"forces/{spring}/x_3")).max()
         k["_angle"], k["_lift"], k["_fcam"] = a, lift, fcam
     return k
 
