@@ -4,6 +4,10 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <initializer_list>
+#include <iterator>
+#include <utility>
 #include <sstream>
 #include <string>
 
@@ -34,6 +38,21 @@ inline std::filesystem::path run_text(const std::string& text, const std::string
   const RunSummary s = run_scene(scene, options, p, log);
   if (summary) *summary = s;
   return options.output;
+}
+
+/// A scene shipped in testdata (path relative to testdata/) with edits: each `from` is replaced by `to` at its
+/// first occurrence; an edit that finds nothing fails the test (the shipped file changed under it).
+inline std::string shipped_scene(const std::string& path,
+                                 std::initializer_list<std::pair<std::string, std::string>> edits = {}) {
+  std::ifstream in(std::filesystem::path(NVH_SOURCE_DIR) / "testdata" / path);
+  EXPECT_TRUE(in.good()) << "cannot read testdata/" << path;
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  for (const auto& [from, to] : edits) {
+    const auto at = text.find(from);
+    EXPECT_NE(at, std::string::npos) << "testdata/" << path << " has no '" << from << "'";
+    if (at != std::string::npos) text.replace(at, from.size(), to);
+  }
+  return text;
 }
 
 /// Column `c` of an (n, 3) dataset, or a 1-D dataset (c ignored).

@@ -21,8 +21,6 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <numbers>
 #include <sstream>
 #include <string>
@@ -38,6 +36,7 @@
 #include "solve/body.hpp"
 #include "solve/run.hpp"
 #include "solve/scene.hpp"
+#include "solve_fixture.hpp"
 
 namespace nvh::solve {
 namespace {
@@ -195,8 +194,7 @@ TEST(FlexibleRocker, SectionsAreTheDimensionsOfItsComments) {
 // of mass within 0.1 mm of the pivot (0.6 kg x 9.81 m/s^2 x 0.1 mm = 6e-4 N m against the 6 N m return
 // spring).
 TEST(FlexibleRocker, HasTheRigidRockersMassAndInertiaAboutThePivot) {
-  std::ifstream in(kValvetrain / "valvetrain.toml");
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string text = testing::shipped_scene("valvetrain/valvetrain.toml");
   const Scene rigid = parse_scene(text, "valvetrain.toml", kValvetrain);
   const RigidBody* body = nullptr;
   for (const auto& b : rigid.model.bodies)
@@ -243,14 +241,8 @@ fs::path temp_dir() {
 
 /// The scene file at 325 cam rpm up to 290 deg (the top of the first lift is at 270 deg), run from `dir`.
 fs::path run_slow(const std::string& scene, const fs::path& dir) {
-  std::ifstream in(kValvetrain / scene);
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  for (const auto& [from, to] : {std::pair<std::string, std::string>{"rpm = 650 ", "rpm = 325 "},
-                                 {"end_angle_deg = 760 ", "end_angle_deg = 290 "}}) {
-    const auto at = text.find(from);
-    EXPECT_NE(at, std::string::npos) << scene << ": " << from;
-    if (at != std::string::npos) text.replace(at, from.size(), to);
-  }
+  const std::string text = testing::shipped_scene(
+      "valvetrain/" + scene, {{"rpm = 650 ", "rpm = 325 "}, {"end_angle_deg = 760 ", "end_angle_deg = 290 "}});
   Scene s = parse_scene(text, scene, dir);
   std::ostringstream sink;
   const Logger log(sink, "solve", Verbosity::kQuiet);

@@ -5,10 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <fstream>
 #include <numbers>
-#include <regex>
-#include <sstream>
 
 #include "solve/cam/profiles.hpp"
 #include "solve_fixture.hpp"
@@ -54,18 +51,11 @@ Chain chain(double s, double ds, double dds) {
   return {phi, dphi, ddphi};
 }
 
-std::string shipped_scene() {
-  std::ifstream in(std::string(NVH_SOURCE_DIR) + "/testdata/valvetrain/valvetrain_kinematic.toml");
-  std::stringstream text;
-  text << in.rdbuf();
-  // One cam revolution and a little, at a lower sample rate: the kinematics do not depend on the length.
-  std::string s = std::regex_replace(text.str(), std::regex("end_angle_deg = 760"), "end_angle_deg = 370");
-  return std::regex_replace(s, std::regex("sample_rate_hz = 40000"), "sample_rate_hz = 5000");
-}
-
 TEST(ValvetrainKinematics, ValveLiftVelocityAccelerationFollowTheChainsClosedForm) {
-  const std::string text = shipped_scene();
-  ASSERT_NE(text.find("end_angle_deg = 370"), std::string::npos) << "the shipped scene changed its end";
+  // One cam revolution and a little, at a lower sample rate: the kinematics do not depend on the length.
+  const std::string text = testing::shipped_scene(
+      "valvetrain/valvetrain_kinematic.toml",
+      {{"end_angle_deg = 760", "end_angle_deg = 370"}, {"sample_rate_hz = 40000", "sample_rate_hz = 5000"}});
   const auto out = testing::run_text(text, "valvetrain_kinematic");
   // The cam of the scene: the polynomial profile of valvetrain.toml, 650 rpm, phase -90 deg.
   cam::PolynomialEvent e;
