@@ -20,7 +20,9 @@ The KPIs, from the channels of the scene's elements (names as in testdata/valvet
                       (|/joints/rocker_shaft/reaction_force|), N
   drive torque        /forces/cam/cam_torque: largest and mean (N m; the mean is the friction-free work)
   spring              largest force (/forces/valve_spring/force_i) and the middle coil's surge: the largest
-                      |x_3| (displacement of mass 3 from its quasi-static place, mm)
+                      |x_3| (displacement of mass 3 from its quasi-static place, mm; of a chain of N masses,
+                      mass (N+1)//2; a massless spring-damper has none: nan)
+  (a rigid pushrod, a `distance` joint named pushrod: its force is |/joints/pushrod/reaction_force|)
 Spring study (--spring-study; the points differ in wire_diameter d, active_coils n_a, free_length L0,
 mean_diameter D; installed length 60 mm and valve lift 14 mm as in the scene), constraints per design:
   shear stress at full lift   tau = K_w 8 F D / (pi d^3) <= 900 MPa, Wahl's factor K_w = (4C - 1)/(4C - 4) +
@@ -138,12 +140,22 @@ def kpis(results: Path, valve: str = "valve", seat: str = "seat", spring: str = 
             k["bounce_deg"] = float(np.sum(off) * (a[1] - a[0]))
         else:
             k["bounce_mm"] = k["bounce_deg"] = math.nan
-        k["pushrod_max"] = g("forces/pushrod/force_i").max()
+        # The pushrod as a chain (its force) or rigid (a distance joint: its reaction's magnitude).
+        if "forces/pushrod/force_i" in r:
+            k["pushrod_max"] = g("forces/pushrod/force_i").max()
+        else:
+            k["pushrod_max"] = np.linalg.norm(r["joints/pushrod/reaction_force"][:][last], axis=1).max()
         k["pivot_max"] = np.linalg.norm(r["joints/rocker_shaft/reaction_force"][:][last], axis=1).max()
         torque = g("forces/cam/cam_torque")
         k["torque_max"], k["torque_mean"] = np.abs(torque).max(), torque.mean()
-        k["spring_max"] = g(f"forces/{spring}/force_i").max()
-        k["surge_mm"] = 1e3 * np.abs(g(f"forces/{spring}/x_3")).max()
+        # The spring as a chain of N masses (its force at the retainer; surge: the middle mass, x_3 of 5) or
+        # as a massless spring-damper (its compression; no surge).
+        if f"forces/{spring}/force_i" in r:
+            k["spring_max"] = g(f"forces/{spring}/force_i").max()
+            n = sum(1 for name in r[f"forces/{spring}"] if name.startswith("x_"))
+            k["surge_mm"] = 1e3 * np.abs(g(f"forces/{spring}/x_{(n + 1) // 2}")).max()
+        else:
+            k["spring_max"], k["surge_mm"] = -g(f"forces/{spring}/tension").min(), math.nan
         k["_angle"], k["_lift"], k["_fcam"] = a, lift, fcam
     return k
 
