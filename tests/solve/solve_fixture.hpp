@@ -7,9 +7,9 @@
 #include <fstream>
 #include <initializer_list>
 #include <iterator>
-#include <utility>
 #include <sstream>
 #include <string>
+#include <utility>
 
 #include "common/error.hpp"
 #include "common/hdf5.hpp"
@@ -25,10 +25,12 @@ inline std::filesystem::path temp_path(const std::string& name) {
   return dir / name;
 }
 
-/// Parse, run, and return the results file path.
+/// Parse, run, and return the results file path. Files the scene names (tables, superelements) are looked for
+/// in `folder` under testdata/ (a shipped scene's own folder).
 inline std::filesystem::path run_text(const std::string& text, const std::string& name,
-                                      RunSummary* summary = nullptr) {
-  Scene scene = parse_scene(text, name + ".toml", std::filesystem::path(NVH_SOURCE_DIR) / "testdata/scenes");
+                                      RunSummary* summary = nullptr, const std::string& folder = "scenes") {
+  Scene scene =
+      parse_scene(text, name + ".toml", std::filesystem::path(NVH_SOURCE_DIR) / "testdata" / folder);
   std::ostringstream sink;
   const Logger log(sink, "solve", Verbosity::kQuiet);
   RunOptions options;
@@ -40,8 +42,8 @@ inline std::filesystem::path run_text(const std::string& text, const std::string
   return options.output;
 }
 
-/// A scene shipped in testdata (path relative to testdata/) with edits: each `from` is replaced by `to` at its
-/// first occurrence; an edit that finds nothing fails the test (the shipped file changed under it).
+/// A scene shipped in testdata (path relative to testdata/) with edits: each `from` is replaced by `to` at
+/// its first occurrence; an edit that finds nothing fails the test (the shipped file changed under it).
 inline std::string shipped_scene(const std::string& path,
                                  std::initializer_list<std::pair<std::string, std::string>> edits = {}) {
   std::ifstream in(std::filesystem::path(NVH_SOURCE_DIR) / "testdata" / path);

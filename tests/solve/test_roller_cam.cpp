@@ -298,8 +298,9 @@ namespace {
 // rocker's ball end swings 40 mm (1 - cos phi) sideways as the rocker turns by phi = asin(lift / 40 mm),
 // which shortens the 300 mm pushrod's height by 0.3 - sqrt(0.3^2 - that^2).
 TEST(Valvetrain, TopOfTheLiftIsTheKinematicLiftLessTheDeflections) {
-  const std::string text = testing::shipped_scene("valvetrain/valvetrain.toml", {{"rpm = 650 ", "rpm = 325 "}});
-  const auto file = run_text(text, "valvetrain_slow");
+  const std::string text =
+      testing::shipped_scene("valvetrain/valvetrain.toml", {{"rpm = 650 ", "rpm = 325 "}});
+  const auto file = run_text(text, "valvetrain_slow", nullptr, "valvetrain");
   const Eigen::VectorXd y = signal(file, "bodies/valve/position", 1);
   const Eigen::VectorXd fp = signal(file, "forces/pushrod/force_i"),
                         fc = signal(file, "forces/cam/normal_force");
