@@ -46,6 +46,8 @@ SCENES = {  # name: file, valve body, seat, spring (the cam element is "cam" in 
 
 def scene_text(path: Path, cam_rpm: float, integrator: str) -> str:
     text = path.read_text()
+    # Files the scene names, found from where the bench writes it (the gas table of valvetrain.toml).
+    text = text.replace('file = "exhaust_valve_gas.csv"', f'file = "{path.resolve().parent / "exhaust_valve_gas.csv"}"')
     text = re.sub(r"^rpm = [0-9.]+ ", f"rpm = {cam_rpm} ", text, flags=re.M)
     text = text[:text.index("[integrator]")] + "[integrator]\n" + integrator + "\n[output]\nsample_rate_hz = 20000\n"
     return text

@@ -168,7 +168,8 @@ def main() -> int:
     args = ap.parse_args()
     args.out.mkdir(parents=True, exist_ok=True)
     condense_rockers(args.build, args.out)
-    base = (TESTDATA / "valvetrain.toml").read_text()
+    base = replace((TESTDATA / "valvetrain.toml").read_text(), 'file = "exhaust_valve_gas.csv"',
+                   f'file = "{TESTDATA / "exhaust_valve_gas.csv"}"')  # found from where the bench writes scenes
     rows, lines = [], []
 
     def say(line: str = "") -> None:
