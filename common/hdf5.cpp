@@ -149,23 +149,83 @@ std::uint64_t little_endian(const unsigned char* p, int bytes);
 std::string file_name_of(hid_t object);
 bool read_only_with_default_sizes(hid_t object);
 
+// ---------------------------------------------------------------------------------------------
+// Object headers, read beside HDF5
+//
+// HDF5 1.10 trusts parts of the object headers it reads: a group's link storage addresses, the heap
+// references of variable-length string attributes. In files opened read-only (on disk as HDF5 sees them,
+// with its default 8-byte addresses and lengths: read_only_with_default_sizes), those are read here first
+// and checked. Only version-1 object headers are walked: they carry no checksum. Version-2 headers ("OHDR")
+// carry one, which HDF5 verifies itself when it loads them.
+
+// Bytes of a file, read beside HDF5.
+class FileBytes {
+ public:
+  explicit FileBytes(const std::string& file_name) : in_(file_name, std::ios::binary) {}
+  // The `n` bytes at `at`, or none if they are not all in the file.
+  std::vector<unsigned char> read(std::uint64_t at, std::size_t n) {
+    std::vector<unsigned char> bytes(n);
+    in_.clear();
+    in_.seekg(static_cast<std::streamoff>(at));
+    if (!in_.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(n))) bytes.clear();
+    return bytes;
+  }
+
+ private:
+  std::ifstream in_;
+};
+
+// The key under which a check of the object header at `address` is cached: the file's path, size and
+// modification time (its contents, as far as a cache can tell) and the address.
+std::string header_key(const std::string& file_name, std::uint64_t address) {
+  std::error_code error;
+  return file_name + "|" + std::to_string(std::filesystem::file_size(file_name, error)) + "|" +
+         std::to_string(std::filesystem::last_write_time(file_name, error).time_since_epoch().count()) + "|" +
+         std::to_string(address);
+}
+
+// Calls `message(type, flags, data, size)` for each message of the version-1 object header at `address`,
+// in HDF5's order, until it returns false. HDF5 File Format Specification (version 0/1 superblocks),
+// "Version 1 Data Object Header Prefix": version (1 byte, = 1), reserved (1), number of messages (2),
+// reference count (4), size of the first message block (4), padding to 16 bytes; the first block follows.
+// Each message: type (2 bytes), size of its data (2), flags (1), reserved (3), then the data (a multiple of
+// 8 bytes). A continuation message (type 0x0010: address (8), length (8) of a further block) adds a block.
+// Does nothing for a header of another version, and stops where HDF5 could not have written what it finds
+// (a message running past its block, a block of more than 1 MiB, more than 64 blocks): HDF5 judges those.
+void walk_v1_object_header(FileBytes& file, std::uint64_t address,
+                           const std::function<bool(unsigned type, unsigned flags, const unsigned char* data,
+                                                    std::size_t size)>& message) {
+  const std::vector<unsigned char> prefix = file.read(address, 16);
+  if (prefix.size() != 16 || prefix[0] != 1) return;
+  std::vector<std::pair<std::uint64_t, std::uint64_t>> blocks = {
+      {address + 16, little_endian(&prefix[8], 4)}};
+  for (std::size_t b = 0; b < blocks.size() && b < 64; ++b) {
+    if (blocks[b].second > (1u << 20)) return;
+    const std::vector<unsigned char> block =
+        file.read(blocks[b].first, static_cast<std::size_t>(blocks[b].second));
+    for (std::size_t at = 0; at + 8 <= block.size();) {
+      const auto type = static_cast<unsigned>(little_endian(&block[at], 2));
+      const auto size = static_cast<std::size_t>(little_endian(&block[at + 2], 2));
+      if (at + 8 + size > block.size()) break;
+      const unsigned char* data = &block[at + 8];
+      if (type == 0x10 && size >= 16) blocks.emplace_back(little_endian(data, 8), little_endian(data + 8, 8));
+      if (!message(type, block[at + 4], data, size)) return;
+      at += 8 + size;
+    }
+  }
+}
+
 // A group's link storage, checked before HDF5 looks a name up in it. A group of the 1.8 format has a
-// "link info" message in its object header; when a flipped byte makes its fractal-heap address look
-// defined, HDF5 1.10 opens a B-tree at the (undefined or garbage) name-index address and crashes in its
-// metadata accumulator. So, for files opened read-only (on disk as HDF5 sees them), the header is read
-// beside HDF5 (version-1 object headers, which carry no checksum; others are left to HDF5's checksums)
-// and dense link storage must point at a B-tree header ("BTHD") and a fractal heap ("FRHP").
+// "link info" message (type 0x0002) in its object header; when a flipped byte makes its fractal-heap
+// address look defined, HDF5 1.10 opens a B-tree at the (undefined or garbage) name-index address and
+// crashes in its metadata accumulator. So dense link storage must point at a B-tree header ("BTHD") and a
+// fractal heap ("FRHP"). Checked once per file contents and header address.
 void check_group_links(hid_t group) {
   if (H5Iget_type(group) != H5I_GROUP || !read_only_with_default_sizes(group)) return;
   H5O_info_t info;
   if (H5Oget_info2(group, &info, H5O_INFO_BASIC) < 0) return;
   const std::string file_name = file_name_of(group);
-  // Checked once per file contents (path, size, time) and header address.
-  std::error_code error;
-  const std::string key =
-      file_name + "|" + std::to_string(std::filesystem::file_size(file_name, error)) + "|" +
-      std::to_string(std::filesystem::last_write_time(file_name, error).time_since_epoch().count()) + "|" +
-      std::to_string(info.addr);
+  const std::string key = header_key(file_name, info.addr);
   static std::mutex mutex;
   static std::map<std::string, std::string> checked;  // "" if sound
   const std::lock_guard<std::mutex> lock(mutex);
@@ -174,48 +234,25 @@ void check_group_links(hid_t group) {
   if (known != checked.end()) {
     fault = known->second;
   } else {
-    std::ifstream in(file_name, std::ios::binary);
-    auto read = [&in](std::uint64_t at, std::size_t n) {
-      std::vector<unsigned char> bytes(n);
-      in.clear();
-      in.seekg(static_cast<std::streamoff>(at));
-      if (!in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(n))) bytes.clear();
-      return bytes;
-    };
-    const std::vector<unsigned char> prefix = read(info.addr, 16);
-    // Message blocks to walk: the first after the 16-byte prefix, then any continuation blocks.
-    std::vector<std::pair<std::uint64_t, std::uint64_t>> blocks;
-    if (prefix.size() == 16 && prefix[0] == 1)
-      blocks.emplace_back(info.addr + 16, little_endian(&prefix[8], 4));
-    for (std::size_t b = 0; b < blocks.size() && b < 64 && fault.empty(); ++b) {
-      if (blocks[b].second > (1u << 20)) break;  // not a header HDF5 wrote; let HDF5 judge it
-      const std::vector<unsigned char> block =
-          read(blocks[b].first, static_cast<std::size_t>(blocks[b].second));
-      for (std::size_t at = 0; at + 8 <= block.size();) {
-        const auto type = little_endian(&block[at], 2);
-        const auto size = static_cast<std::size_t>(little_endian(&block[at + 2], 2));
-        if (at + 8 + size > block.size()) break;
-        const unsigned char* data = &block[at + 8];
-        if (type == 0x10 && size >= 16)
-          blocks.emplace_back(little_endian(data, 8), little_endian(data + 8, 8));
-        if (type == 0x02 && size >= 18) {  // link info: version, flags, [max index], heap, name B-tree
+    FileBytes file(file_name);
+    walk_v1_object_header(
+        file, info.addr, [&](unsigned type, unsigned, const unsigned char* data, std::size_t size) {
+          if (type != 0x02 || size < 18) return true;
+          // Link info: version, flags, [maximum creation index (8) if flags bit 0], fractal heap address,
+          // name index B-tree address, [creation order B-tree address].
           const std::size_t skip = (data[1] & 1) ? 8 : 0;
-          if (2 + skip + 16 <= size) {
-            const std::uint64_t heap = little_endian(data + 2 + skip, 8);
-            const std::uint64_t names = little_endian(data + 2 + skip + 8, 8);
-            const std::uint64_t undefined = ~std::uint64_t{0};
-            if (heap != undefined) {
-              const std::vector<unsigned char> h = read(heap, 4), n = read(names, 4);
-              if (names == undefined || h.size() != 4 || n.size() != 4 ||
-                  std::memcmp(h.data(), "FRHP", 4) != 0 || std::memcmp(n.data(), "BTHD", 4) != 0) {
-                fault = "corrupt group (its link storage points at no B-tree or heap)";
-              }
-            }
+          if (2 + skip + 16 > size) return true;
+          const std::uint64_t heap = little_endian(data + 2 + skip, 8);
+          const std::uint64_t names = little_endian(data + 2 + skip + 8, 8);
+          const std::uint64_t undefined = ~std::uint64_t{0};
+          if (heap == undefined) return true;
+          const std::vector<unsigned char> h = file.read(heap, 4), n = file.read(names, 4);
+          if (names == undefined || h.size() != 4 || n.size() != 4 || std::memcmp(h.data(), "FRHP", 4) != 0 ||
+              std::memcmp(n.data(), "BTHD", 4) != 0) {
+            fault = "corrupt group (its link storage points at no B-tree or heap)";
           }
-        }
-        at += 8 + size;
-      }
-    }
+          return fault.empty();
+        });
     checked[key] = fault;
   }
   if (!fault.empty()) throw Error(file_name + ": " + fault);
