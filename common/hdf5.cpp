@@ -11,6 +11,7 @@
 #include <map>
 #include <mutex>
 #include <numeric>
+#include <set>
 #include <system_error>
 #include <utility>
 
@@ -258,6 +259,100 @@ void check_group_links(hid_t group) {
   if (!fault.empty()) throw Error(file_name + ": " + fault);
 }
 
+// A variable-length string attribute as an object header stores it (what H5Aread will follow).
+struct StoredStringAttribute {
+  std::string fault;                      // what makes it unreadable, "" if nothing
+  std::uint64_t count = 0;                // strings, as its dataspace says
+  std::vector<unsigned char> references;  // 16 bytes per string
+};
+
+// Decodes an attribute message (type 0x000C) as HDF5 1.10 does (H5O__attr_decode) far enough to say
+// whether it holds variable-length strings and to take their references. HDF5 File Format Specification,
+// "Attribute Message": version (1), reserved (version 1) or flags (2, 3: bit 0 shared datatype, bit 1 shared
+// dataspace), sizes of the name (with its terminating zero), datatype and dataspace (2 bytes each), the
+// name's character set (version 3 only, 1 byte), then the name, datatype and dataspace, each padded to a
+// multiple of 8 bytes in version 1 only, then the data. The datatype ("Datatype Message") starts with its
+// class in the low 4 bits of byte 0 (9: variable-length), a class bit field (3 bytes; for class 9 the low 4
+// bits say sequence (0) or string (1)) and the element size (4). The dataspace ("Dataspace Message"):
+// version (1), rank (1), flags (1), then in version 1 five reserved bytes, in version 2 a type (1: 0
+// scalar, 1 simple, 2 null); then the dimensions, 8 bytes each. Returns false for a message that holds no
+// variable-length strings (or whose datatype or dataspace is shared, not decoded here); else true, with
+// `name` and `attribute` set.
+bool decode_string_attribute(const unsigned char* data, std::size_t size, std::string& name,
+                             StoredStringAttribute& attribute) {
+  if (size < 8 || data[0] < 1 || data[0] > 3) return false;
+  const unsigned version = data[0];
+  const unsigned flags = version >= 2 ? data[1] : 0;
+  if (flags & 3) return false;
+  const auto padded = [version](std::uint64_t n) { return version == 1 ? (n + 7) / 8 * 8 : n; };
+  std::uint64_t at = version == 3 ? 9 : 8;
+  if (at >= size) return false;
+  const char* text = reinterpret_cast<const char*>(data + at);
+  name.assign(text, strnlen(text, size - at));  // as HDF5: up to the terminating zero
+  at += padded(little_endian(data + 2, 2));
+  if (at + 8 > size) return false;
+  const unsigned char* type = data + at;
+  if ((type[0] & 0x0f) != 9 || (type[1] & 0x0f) != 1) return false;
+  attribute = StoredStringAttribute();
+  // HDF5 copies elements of the size the datatype says, then reads them as 16-byte references.
+  if (little_endian(type + 4, 4) != 16) {
+    attribute.fault =
+        "its string type has elements of " + std::to_string(little_endian(type + 4, 4)) + " bytes, not 16";
+    return true;
+  }
+  at += padded(little_endian(data + 4, 2));
+  const unsigned char* space = at + 4 <= size ? data + at : nullptr;
+  const std::uint64_t dims_at = space != nullptr && space[0] == 1 ? 8 : 4;
+  if (space == nullptr || (space[0] != 1 && space[0] != 2) || space[1] > 32 ||
+      at + dims_at + 8 * std::uint64_t{space[1]} > size) {
+    attribute.fault = "its dataspace cannot be decoded";
+    return true;
+  }
+  attribute.count = space[0] == 2 && space[3] == 2 ? 0 : 1;  // a null dataspace has no elements
+  const std::uint64_t too_many = size + 1;  // more strings than fit in the message: a bound, not overflowing
+  for (unsigned d = 0; d < space[1]; ++d) {
+    const std::uint64_t dim = little_endian(space + dims_at + 8 * d, 8);
+    attribute.count = std::min(attribute.count * std::min(dim, too_many), too_many);
+  }
+  at += padded(little_endian(data + 6, 2));
+  if (at > size || attribute.count > (size - at) / 16) {
+    attribute.fault = "its strings run past its object header message";
+    return true;
+  }
+  attribute.references.assign(data + at, data + at + 16 * attribute.count);
+  return true;
+}
+
+// The variable-length string attributes stored in the version-1 object header at `address`, by name (the
+// first message of a name, the one HDF5 opens): none for headers of another version (checksummed; their
+// attributes may also be in dense storage, a fractal heap, not read here). Read once per file contents
+// and header address.
+const std::map<std::string, StoredStringAttribute>& stored_string_attributes(const std::string& file_name,
+                                                                             std::uint64_t address) {
+  static std::mutex mutex;
+  static std::map<std::string, std::map<std::string, StoredStringAttribute>> known;
+  const std::string key = header_key(file_name, address);
+  const std::lock_guard<std::mutex> lock(mutex);
+  const auto found = known.find(key);
+  if (found != known.end()) return found->second;
+  std::map<std::string, StoredStringAttribute>& attributes = known[key];
+  std::set<std::string> seen;  // names of every attribute message, strings or not
+  const auto take = [&](unsigned type, unsigned flags, const unsigned char* data, std::size_t size) {
+    // Attribute messages (0x000C), unless shared (message flags bit 1: the data is a reference to them).
+    if (type != 0x0c || (flags & 2) != 0) return true;
+    std::string name;
+    StoredStringAttribute attribute;
+    if (decode_string_attribute(data, size, name, attribute) && seen.count(name) == 0) {
+      attributes.emplace(name, std::move(attribute));
+    }
+    seen.insert(name);
+    return true;
+  };
+  FileBytes file(file_name);
+  walk_v1_object_header(file, address, take);
+  return attributes;
+}
+
 // The group at `path` (opened, checked by check_group_links), or an invalid handle if it is not a group.
 Handle open_if_group(hid_t loc, const std::string& path) {
   Handle object(H5Oopen(loc, path.c_str(), H5P_DEFAULT));
@@ -450,6 +545,9 @@ void write_attribute(hid_t loc, std::string_view object, std::string_view attr,
 struct Source {
   Handle object;  // a dataset or an attribute
   std::string where;
+  // An attribute's: the address of the object header it is stored in (H5Oget_info2 on an attribute gives
+  // the object it was opened from, not the one it is attached to).
+  haddr_t owner_header = HADDR_UNDEF;
   bool is_attribute() const { return H5Iget_type(object.get()) == H5I_ATTR; }
 };
 
@@ -515,7 +613,9 @@ Source open_attribute(hid_t loc, std::string_view object, std::string_view attr,
   Handle attribute(
       check_id(H5Aopen_by_name(loc, object_name.c_str(), attr_name.c_str(), H5P_DEFAULT, H5P_DEFAULT), where,
                "cannot open the attribute"));
-  return Source{std::move(attribute), where};
+  H5O_info_t owner;
+  const bool known = H5Oget_info_by_name2(loc, object_name.c_str(), &owner, H5O_INFO_BASIC, H5P_DEFAULT) >= 0;
+  return Source{std::move(attribute), where, known ? owner.addr : HADDR_UNDEF};
 }
 
 // Shape checks. Each returns the extent, or throws "expected ..., found shape (...)".
@@ -585,9 +685,9 @@ std::vector<std::int64_t> read_int64s(const Source& source, hsize_t count) {
 // object index the collection does not have, a length shorter than the object), makes it read or copy
 // out of bounds and crash. So before the first variable-length read of a file, every collection in it
 // (found by its "GCOL" signature) is checked the way HDF5 will walk it; and before reading a
-// variable-length dataset, each of its references (raw bytes, read beside HDF5) is checked against the
-// collection it points into. Attributes' references cannot be reached through the API (they sit inside
-// object headers): for them the collection check is what there is (docs/cli.md, "corrupted inputs").
+// variable-length dataset or attribute, each of its references (raw bytes, read beside HDF5: a dataset's
+// from its contiguous storage, an attribute's from its owner's object header) is checked against the
+// collection it points into (docs/cli.md, "corrupted input files").
 // The checks assume HDF5's default 8-byte addresses and lengths and no user block; other files are read
 // unchecked.
 
@@ -714,7 +814,59 @@ const HeapCheck& heap_check(const std::string& file_name) {
   return check;
 }
 
-// Before HDF5 reads variable-length strings from `source`: the checks above; throws naming the file.
+// One stored variable-length string's reference (16 bytes: length (4), collection address (8), object
+// index (4)) checked against the collections of `check`: true if it refers to a stored string of its length,
+// the object H5HG_read will copy into a buffer of that length (plus a terminator).
+bool reference_is_sound(const HeapCheck& check, const unsigned char* reference) {
+  const std::uint64_t length = little_endian(reference, 4);
+  const std::uint64_t address = little_endian(reference + 4, 8);
+  const std::uint64_t index = little_endian(reference + 12, 4);
+  if (length == 0 && address == 0) return true;  // an empty string: nothing stored
+  const auto collection = check.collections.find(address);
+  if (collection == check.collections.end() || index > 0xffff) return false;
+  const auto object = collection->second.objects.find(static_cast<std::uint16_t>(index));
+  return object != collection->second.objects.end() && object->second == length;
+}
+
+// The references of a variable-length string dataset of `count` strings, read from its contiguous
+// storage; none (unchecked) for chunked or compact storage, which is not reachable beside HDF5.
+std::vector<unsigned char> dataset_references(const Source& source, const std::string& file_name,
+                                              hsize_t count) {
+  const hid_t object = source.object.get();
+  const haddr_t offset = H5Dget_offset(object);
+  if (offset == HADDR_UNDEF) return {};
+  if (H5Dget_storage_size(object) != 16 * count)
+    fail(source.where, "corrupt: storage size does not match its shape");
+  std::vector<unsigned char> references =
+      FileBytes(file_name).read(offset, static_cast<std::size_t>(16 * count));
+  if (references.empty()) fail(source.where, "corrupt: its data lies beyond the end of the file");
+  return references;
+}
+
+// The references of a variable-length string attribute of `count` strings, read from the object header of
+// the object it is attached to; none (unchecked) if that header was not read (stored_string_attributes).
+std::vector<unsigned char> attribute_references(const Source& source, const std::string& file_name,
+                                                hsize_t count) {
+  const hid_t attribute = source.object.get();
+  if (source.owner_header == HADDR_UNDEF) return {};
+  const ssize_t length = H5Aget_name(attribute, 0, nullptr);
+  if (length < 0) return {};
+  std::string name(static_cast<std::size_t>(length) + 1, '\0');
+  H5Aget_name(attribute, name.size(), name.data());
+  name.resize(static_cast<std::size_t>(length));
+  const auto& attributes = stored_string_attributes(file_name, source.owner_header);
+  const auto found = attributes.find(name);
+  if (found == attributes.end()) return {};
+  const StoredStringAttribute& stored = found->second;
+  if (!stored.fault.empty()) fail(source.where, "corrupt: " + stored.fault);
+  if (stored.count != count) {
+    fail(source.where, "corrupt: its object header holds " + std::to_string(stored.count) + " strings, not " +
+                           std::to_string(count));
+  }
+  return stored.references;
+}
+
+// Before HDF5 reads `count` variable-length strings from `source`: the checks above; throws naming the file.
 void check_variable_length_strings(const Source& source, hsize_t count) {
   const hid_t object = source.object.get();
   if (!read_only_with_default_sizes(object)) return;
@@ -722,28 +874,11 @@ void check_variable_length_strings(const Source& source, hsize_t count) {
   if (file_name.empty()) return;
   const HeapCheck& check = heap_check(file_name);
   if (!check.error.empty()) fail(source.where, check.error);
-  if (source.is_attribute()) return;
-  const haddr_t offset = H5Dget_offset(object);
-  if (offset == HADDR_UNDEF) return;  // not contiguous (chunked or compact): references not reachable
-  if (H5Dget_storage_size(object) != 16 * count)
-    fail(source.where, "corrupt: storage size does not match its shape");
-  std::vector<unsigned char> references(static_cast<std::size_t>(16 * count));
-  std::ifstream in(file_name, std::ios::binary);
-  in.seekg(static_cast<std::streamoff>(offset));
-  if (!in.read(reinterpret_cast<char*>(references.data()), static_cast<std::streamsize>(references.size()))) {
-    fail(source.where, "corrupt: its data lies beyond the end of the file");
-  }
-  for (hsize_t i = 0; i < count; ++i) {
-    const unsigned char* reference = references.data() + 16 * i;
-    const std::uint64_t length = little_endian(reference, 4);
-    const std::uint64_t address = little_endian(reference + 4, 8);
-    const auto index = static_cast<std::uint16_t>(little_endian(reference + 12, 4));
-    if (length == 0 && address == 0) continue;  // an empty string: nothing stored
-    const auto collection = check.collections.find(address);
-    const bool ok = collection != check.collections.end() && little_endian(reference + 12, 4) <= 0xffff &&
-                    collection->second.objects.count(index) > 0 &&
-                    collection->second.objects.at(index) == length;
-    if (!ok) {
+  const std::vector<unsigned char> references = source.is_attribute()
+                                                    ? attribute_references(source, file_name, count)
+                                                    : dataset_references(source, file_name, count);
+  for (std::size_t i = 0; i < references.size() / 16; ++i) {
+    if (!reference_is_sound(check, references.data() + 16 * i)) {
       fail(source.where,
            "corrupt: string " + std::to_string(i) + " refers to no stored string of its length");
     }
