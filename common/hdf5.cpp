@@ -273,11 +273,12 @@ struct StoredStringAttribute {
 // name's character set (version 3 only, 1 byte), then the name, datatype and dataspace, each padded to a
 // multiple of 8 bytes in version 1 only, then the data. The datatype ("Datatype Message") starts with its
 // class in the low 4 bits of byte 0 (9: variable-length), a class bit field (3 bytes; for class 9 the low 4
-// bits say sequence (0) or string (1)) and the element size (4). The dataspace ("Dataspace Message"):
-// version (1), rank (1), flags (1), then in version 1 five reserved bytes, in version 2 a type (1: 0
-// scalar, 1 simple, 2 null); then the dimensions, 8 bytes each. Returns false for a message that holds no
-// variable-length strings (or whose datatype or dataspace is shared, not decoded here); else true, with
-// `name` and `attribute` set.
+// bits say sequence (0) or string (1)) and the element size (4); a class 9 type then holds its base type, a
+// datatype of the same form (class 0, fixed-point: then bit offset (2) and precision (2)). The dataspace
+// ("Dataspace Message"): version (1), rank (1), flags (1), then in version 1 five reserved bytes, in version
+// 2 a type (1: 0 scalar, 1 simple, 2 null); then the dimensions, 8 bytes each. Returns false for a message
+// that holds no variable-length strings (or whose datatype or dataspace is shared, not decoded here); else
+// true, with `name` and `attribute` set.
 bool decode_string_attribute(const unsigned char* data, std::size_t size, std::string& name,
                              StoredStringAttribute& attribute) {
   if (size < 8 || data[0] < 1 || data[0] > 3) return false;
@@ -298,6 +299,15 @@ bool decode_string_attribute(const unsigned char* data, std::size_t size, std::s
   if (little_endian(type + 4, 4) != 16) {
     attribute.fault =
         "its string type has elements of " + std::to_string(little_endian(type + 4, 4)) + " bytes, not 16";
+    return true;
+  }
+  // Its characters: the 1-byte unsigned integer type HDF5 gives every string (class 0, size 1, bit offset 0,
+  // precision 8). Other values make HDF5 convert each string with another character size (wrong strings,
+  // or gigabytes for a size of 2^29).
+  const unsigned char* base = at + 20 <= size ? type + 8 : nullptr;
+  if (base == nullptr || (base[0] & 0x0f) != 0 || little_endian(base + 4, 4) != 1 ||
+      little_endian(base + 8, 2) != 0 || little_endian(base + 10, 2) != 8) {
+    attribute.fault = "its strings are not of 8-bit characters";
     return true;
   }
   at += padded(little_endian(data + 4, 2));

@@ -266,38 +266,50 @@ TEST(corruption, VariableLengthStringAttributeReferencesAreChecked) {
   ASSERT_NO_THROW(read_all(good));
 
   const std::vector<char> bytes = load(good);
-  // Each case: the string whose reference is corrupted, the byte of the reference, what is xor-ed into it.
+  // Each case: what is corrupted, the byte, what is xor-ed into it.
   struct Case {
-    std::string text;
-    int byte;
+    std::string what;
+    std::size_t at;
     unsigned char flip;
   };
-  const std::vector<Case> cases = {
-      {label, 0, 0x08},     // length 8 bytes off: HDF5 copies the object into a shorter buffer
-      {label, 2, 0x01},     // length of 64 kB: a buffer far longer than the object
-      {label, 3, 0x40},     // length of 1 GB
-      {label, 4, 0x08},     // collection address 8 bytes off: inside the collection
-      {label, 6, 0x10},     // collection address 1 MB off: beyond the end of the file
-      {label, 12, 0x20},    // object index the collection does not have
-      {label, 13, 0x01},    // object index 256 up
-      {names[1], 0, 0x01},  // the second string of a 1-D attribute
-      {names[1], 12, 0x04}, {units, 0, 0x02},  // an attribute of a dataset, not of the root group
-      {units, 5, 0x01},
+  std::vector<Case> cases;
+  const auto reference = [&](const std::string& text, std::size_t byte, unsigned char flip) {
+    const std::size_t at = find_reference(bytes, text);
+    if (at > 0)
+      cases.push_back({"reference of '" + text + "', byte " + std::to_string(byte), at + byte, flip});
   };
+  reference(label, 0, 0x08);     // length 8 bytes off: HDF5 copies the object into a shorter buffer
+  reference(label, 2, 0x01);     // length of 64 kB: a buffer far longer than the object
+  reference(label, 3, 0x40);     // length of 1 GB
+  reference(label, 4, 0x08);     // collection address 8 bytes off: inside the collection
+  reference(label, 6, 0x10);     // collection address 1 MB off: beyond the end of the file
+  reference(label, 12, 0x20);    // object index the collection does not have
+  reference(label, 13, 0x01);    // object index 256 up
+  reference(names[1], 0, 0x01);  // the second string of a 1-D attribute
+  reference(names[1], 12, 0x04);
+  reference(units, 0, 0x02);  // an attribute of a dataset, not of the root group
+  reference(units, 5, 0x01);
+  ASSERT_EQ(cases.size(), 11u);
+  // The attribute message of "label" in the root group's version-1 object header: its name, padded to 8
+  // bytes, follows the sizes of the name, datatype and dataspace (2 bytes each); its datatype follows the
+  // name: class and bit field (4 bytes), size (4), then the base type of the characters (class and bit
+  // field, size, ...).
+  const std::size_t name =
+      std::string_view(bytes.data(), bytes.size()).find(std::string_view("label\0\0\0", 8));
+  ASSERT_NE(name, std::string_view::npos);
+  cases.push_back({"base type size of 'label'", name + 8 + 12, 0x02});  // characters of 3 bytes
   const fs::path bad = dir / "attributes_bad.h5";
   Figures figures;
   for (const Case& c : cases) {
-    const std::size_t at = find_reference(bytes, c.text);
-    ASSERT_GT(at, 0u);
     std::vector<char> copy = bytes;
-    copy[at + static_cast<std::size_t>(c.byte)] ^= static_cast<char>(c.flip);
+    copy[c.at] ^= static_cast<char>(c.flip);
     save(bad, copy, copy.size());
     const Figures before = figures;
     read_one(bad, read_all, figures);
     const bool refused = figures.errors == before.errors + 1 && figures.unnamed == before.unnamed &&
                          figures.crashes == before.crashes;
-    EXPECT_TRUE(refused) << "reference of '" << c.text << "', byte " << c.byte << " ^ "
-                         << static_cast<int>(c.flip) << ": not refused by an error naming the file";
+    EXPECT_TRUE(refused) << c.what << " ^ " << static_cast<int>(c.flip)
+                         << ": not refused by an error naming the file";
   }
   EXPECT_EQ(figures.unnamed, 0);
   EXPECT_EQ(figures.crashes, 0);
