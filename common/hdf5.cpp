@@ -261,14 +261,22 @@ void check_group_links(hid_t group) {
 
 // A variable-length string attribute as an object header stores it (what H5Aread will follow).
 struct StoredStringAttribute {
-  std::string fault;                      // what makes it unreadable, "" if nothing
+  std::string fault;                      // what would make HDF5 misread it, "" if nothing
   std::uint64_t count = 0;                // strings, as its dataspace says
   std::vector<unsigned char> references;  // 16 bytes per string
 };
 
-// Decodes an attribute message (type 0x000C) as HDF5 1.10 does (H5O__attr_decode) far enough to say
-// whether it holds variable-length strings and to take their references. HDF5 File Format Specification,
-// "Attribute Message": version (1), reserved (version 1) or flags (2, 3: bit 0 shared datatype, bit 1 shared
+// One attribute message, as far as it is decoded here.
+struct AttributeMessage {
+  std::string name;
+  std::string fault;     // a part of it that HDF5 1.10 would decode beyond the message, "" if none
+  bool strings = false;  // it holds variable-length strings, described by `stored`
+  StoredStringAttribute stored;
+};
+
+// Decodes an attribute message (type 0x000C) as HDF5 1.10 does (H5O__attr_decode), far enough to bound its
+// parts and to take the references of variable-length strings. HDF5 File Format Specification, "Attribute
+// Message": version (1), reserved (version 1) or flags (2, 3: bit 0 shared datatype, bit 1 shared
 // dataspace), sizes of the name (with its terminating zero), datatype and dataspace (2 bytes each), the
 // name's character set (version 3 only, 1 byte), then the name, datatype and dataspace, each padded to a
 // multiple of 8 bytes in version 1 only, then the data. The datatype ("Datatype Message") starts with its
@@ -276,91 +284,115 @@ struct StoredStringAttribute {
 // bits say sequence (0) or string (1)) and the element size (4); a class 9 type then holds its base type, a
 // datatype of the same form (class 0, fixed-point: then bit offset (2) and precision (2)). The dataspace
 // ("Dataspace Message"): version (1), rank (1), flags (1), then in version 1 five reserved bytes, in version
-// 2 a type (1: 0 scalar, 1 simple, 2 null); then the dimensions, 8 bytes each. Returns false for a message
-// that holds no variable-length strings (or whose datatype or dataspace is shared, not decoded here); else
-// true, with `name` and `attribute` set.
-bool decode_string_attribute(const unsigned char* data, std::size_t size, std::string& name,
-                             StoredStringAttribute& attribute) {
-  if (size < 8 || data[0] < 1 || data[0] > 3) return false;
+// 2 a type (1: 0 scalar, 1 simple, 2 null); then the dimensions, 8 bytes each. HDF5 1.10.8 decodes the
+// datatype and dataspace where the sizes put them, unbounded, and copies (elements x element size) bytes of
+// data, bounded by the size of the whole message only: a flipped size makes it read beyond the message (and
+// crash). What HDF5 refuses itself (unknown versions, a name size other than the name's) and shared
+// datatypes or dataspaces (a reference elsewhere) are left undecoded.
+AttributeMessage decode_attribute_message(const unsigned char* data, std::size_t size) {
+  AttributeMessage message;
+  if (size < 8 || data[0] < 1 || data[0] > 3) return message;
   const unsigned version = data[0];
-  const unsigned flags = version >= 2 ? data[1] : 0;
-  if (flags & 3) return false;
   const auto padded = [version](std::uint64_t n) { return version == 1 ? (n + 7) / 8 * 8 : n; };
-  std::uint64_t at = version == 3 ? 9 : 8;
-  if (at >= size) return false;
-  const char* text = reinterpret_cast<const char*>(data + at);
-  name.assign(text, strnlen(text, size - at));  // as HDF5: up to the terminating zero
-  at += padded(little_endian(data + 2, 2));
-  if (at + 8 > size) return false;
-  const unsigned char* type = data + at;
-  if ((type[0] & 0x0f) != 9 || (type[1] & 0x0f) != 1) return false;
-  attribute = StoredStringAttribute();
-  // HDF5 copies elements of the size the datatype says, then reads them as 16-byte references.
-  if (little_endian(type + 4, 4) != 16) {
-    attribute.fault =
-        "its string type has elements of " + std::to_string(little_endian(type + 4, 4)) + " bytes, not 16";
-    return true;
+  const std::uint64_t name_at = version == 3 ? 9 : 8;
+  const std::uint64_t type_at = name_at + padded(little_endian(data + 2, 2));
+  const std::uint64_t space_at = type_at + padded(little_endian(data + 4, 2));
+  const std::uint64_t data_at = space_at + padded(little_endian(data + 6, 2));
+  if (name_at >= size) return message;
+  const char* text = reinterpret_cast<const char*>(data + name_at);
+  message.name.assign(text, strnlen(text, size - name_at));  // as HDF5: up to the terminating zero
+  if (little_endian(data + 2, 2) != message.name.size() + 1) return message;  // HDF5 refuses it itself
+  if (data_at > size) {
+    message.fault = "its name, datatype and dataspace run past its message";
+    return message;
+  }
+  if (version >= 2 && (data[1] & 3) != 0) return message;
+  const unsigned char* type = type_at + 8 <= size ? data + type_at : nullptr;
+  const unsigned char* space = space_at + 4 <= size ? data + space_at : nullptr;
+  const std::uint64_t dims_at = space != nullptr && space[0] == 1 ? 8 : 4;
+  if (type == nullptr || space == nullptr || (space[0] != 1 && space[0] != 2) || space[1] > 32)
+    return message;
+  if (space_at + dims_at + 8 * std::uint64_t{space[1]} > size) {
+    message.fault = "its dataspace runs past its message";
+    return message;
+  }
+  std::uint64_t count = space[0] == 2 && space[3] == 2 ? 0 : 1;  // a null dataspace has no elements
+  const std::uint64_t too_many = size + 1;  // more elements than fit in the message: a bound, not overflowing
+  for (unsigned d = 0; d < space[1]; ++d) {
+    const std::uint64_t dim = little_endian(space + dims_at + 8 * d, 8);
+    count = std::min(count * std::min(dim, too_many), too_many);
+  }
+  const std::uint64_t element = little_endian(type + 4, 4);
+  if (count * element > size - data_at) {
+    message.fault = "its data runs past its message";
+    return message;
+  }
+  if ((type[0] & 0x0f) != 9 || (type[1] & 0x0f) != 1) return message;  // not variable-length strings
+  message.strings = true;
+  StoredStringAttribute& stored = message.stored;
+  // HDF5 copies elements of the size the datatype says, then H5Aread takes them as 16-byte references.
+  if (element != 16) {
+    stored.fault = "its string type has elements of " + std::to_string(element) + " bytes, not 16";
+    return message;
   }
   // Its characters: the 1-byte unsigned integer type HDF5 gives every string (class 0, size 1, bit offset 0,
   // precision 8). Other values make HDF5 convert each string with another character size (wrong strings,
   // or gigabytes for a size of 2^29).
-  const unsigned char* base = at + 20 <= size ? type + 8 : nullptr;
+  const unsigned char* base = type_at + 20 <= size ? type + 8 : nullptr;
   if (base == nullptr || (base[0] & 0x0f) != 0 || little_endian(base + 4, 4) != 1 ||
       little_endian(base + 8, 2) != 0 || little_endian(base + 10, 2) != 8) {
-    attribute.fault = "its strings are not of 8-bit characters";
-    return true;
+    stored.fault = "its strings are not of 8-bit characters";
+    return message;
   }
-  at += padded(little_endian(data + 4, 2));
-  const unsigned char* space = at + 4 <= size ? data + at : nullptr;
-  const std::uint64_t dims_at = space != nullptr && space[0] == 1 ? 8 : 4;
-  if (space == nullptr || (space[0] != 1 && space[0] != 2) || space[1] > 32 ||
-      at + dims_at + 8 * std::uint64_t{space[1]} > size) {
-    attribute.fault = "its dataspace cannot be decoded";
-    return true;
-  }
-  attribute.count = space[0] == 2 && space[3] == 2 ? 0 : 1;  // a null dataspace has no elements
-  const std::uint64_t too_many = size + 1;  // more strings than fit in the message: a bound, not overflowing
-  for (unsigned d = 0; d < space[1]; ++d) {
-    const std::uint64_t dim = little_endian(space + dims_at + 8 * d, 8);
-    attribute.count = std::min(attribute.count * std::min(dim, too_many), too_many);
-  }
-  at += padded(little_endian(data + 6, 2));
-  if (at > size || attribute.count > (size - at) / 16) {
-    attribute.fault = "its strings run past its object header message";
-    return true;
-  }
-  attribute.references.assign(data + at, data + at + 16 * attribute.count);
-  return true;
+  stored.count = count;
+  stored.references.assign(data + data_at, data + data_at + 16 * count);
+  return message;
 }
 
-// The variable-length string attributes stored in the version-1 object header at `address`, by name (the
-// first message of a name, the one HDF5 opens): none for headers of another version (checksummed; their
-// attributes may also be in dense storage, a fractal heap, not read here). Read once per file contents
-// and header address.
-const std::map<std::string, StoredStringAttribute>& stored_string_attributes(const std::string& file_name,
-                                                                             std::uint64_t address) {
+// The attribute messages of one object header, as read beside HDF5.
+struct StoredAttributes {
+  std::string fault;  // the first message HDF5 would decode beyond, "" if none
+  std::map<std::string, StoredStringAttribute> strings;  // variable-length string attributes, by name
+};
+
+// The attribute messages of the version-1 object header at `address` (HDF5 opens the first message of a
+// name); none for headers of another version (checksummed; their attributes may also be in dense storage,
+// a fractal heap, not read here). Read once per file contents and header address.
+const StoredAttributes& stored_attributes(const std::string& file_name, std::uint64_t address) {
   static std::mutex mutex;
-  static std::map<std::string, std::map<std::string, StoredStringAttribute>> known;
+  static std::map<std::string, StoredAttributes> known;
   const std::string key = header_key(file_name, address);
   const std::lock_guard<std::mutex> lock(mutex);
   const auto found = known.find(key);
   if (found != known.end()) return found->second;
-  std::map<std::string, StoredStringAttribute>& attributes = known[key];
-  std::set<std::string> seen;  // names of every attribute message, strings or not
+  StoredAttributes& attributes = known[key];
+  std::set<std::string> names;  // of every attribute message, strings or not
   const auto take = [&](unsigned type, unsigned flags, const unsigned char* data, std::size_t size) {
     // Attribute messages (0x000C), unless shared (message flags bit 1: the data is a reference to them).
     if (type != 0x0c || (flags & 2) != 0) return true;
-    std::string name;
-    StoredStringAttribute attribute;
-    if (decode_string_attribute(data, size, name, attribute) && seen.count(name) == 0) {
-      attributes.emplace(name, std::move(attribute));
-    }
-    seen.insert(name);
+    AttributeMessage message = decode_attribute_message(data, size);
+    if (attributes.fault.empty() && !message.fault.empty())
+      attributes.fault = "corrupt attribute '" + message.name + "' (" + message.fault + ")";
+    if (message.strings && names.count(message.name) == 0)
+      attributes.strings.emplace(message.name, std::move(message.stored));
+    names.insert(message.name);
     return true;
   };
   FileBytes file(file_name);
   walk_v1_object_header(file, address, take);
   return attributes;
+}
+
+// Before HDF5 decodes the attribute messages of `object` (H5Aexists_by_name and H5Aopen_by_name decode them
+// in turn until the one named): in a file opened read-only, none may have a part HDF5 would decode beyond
+// its message. Returns the address of the object's header, HADDR_UNDEF if it was not read (other files).
+haddr_t check_attribute_messages(hid_t loc, const std::string& object, const std::string& object_where) {
+  if (!read_only_with_default_sizes(loc)) return HADDR_UNDEF;
+  H5O_info_t info;
+  if (H5Oget_info_by_name2(loc, object.c_str(), &info, H5O_INFO_BASIC, H5P_DEFAULT) < 0) return HADDR_UNDEF;
+  const StoredAttributes& attributes = stored_attributes(file_name_of(loc), info.addr);
+  if (!attributes.fault.empty()) fail(object_where, attributes.fault);
+  return info.addr;
 }
 
 // The group at `path` (opened, checked by check_group_links), or an invalid handle if it is not a group.
@@ -617,15 +649,14 @@ Source open_attribute(hid_t loc, std::string_view object, std::string_view attr,
   if (!link_exists(loc, object)) fail(object_where, "no such group or dataset");
   const std::string object_name(object);
   const std::string attr_name(attr);
+  const haddr_t header = check_attribute_messages(loc, object_name, object_where);
   if (H5Aexists_by_name(loc, object_name.c_str(), attr_name.c_str(), H5P_DEFAULT) <= 0) {
     fail(object_where, "no attribute '" + attr_name + "'");
   }
   Handle attribute(
       check_id(H5Aopen_by_name(loc, object_name.c_str(), attr_name.c_str(), H5P_DEFAULT, H5P_DEFAULT), where,
                "cannot open the attribute"));
-  H5O_info_t owner;
-  const bool known = H5Oget_info_by_name2(loc, object_name.c_str(), &owner, H5O_INFO_BASIC, H5P_DEFAULT) >= 0;
-  return Source{std::move(attribute), where, known ? owner.addr : HADDR_UNDEF};
+  return Source{std::move(attribute), where, header};
 }
 
 // Shape checks. Each returns the extent, or throws "expected ..., found shape (...)".
@@ -854,7 +885,7 @@ std::vector<unsigned char> dataset_references(const Source& source, const std::s
 }
 
 // The references of a variable-length string attribute of `count` strings, read from the object header of
-// the object it is attached to; none (unchecked) if that header was not read (stored_string_attributes).
+// the object it is attached to; none (unchecked) if that header was not read (stored_attributes).
 std::vector<unsigned char> attribute_references(const Source& source, const std::string& file_name,
                                                 hsize_t count) {
   const hid_t attribute = source.object.get();
@@ -864,9 +895,9 @@ std::vector<unsigned char> attribute_references(const Source& source, const std:
   std::string name(static_cast<std::size_t>(length) + 1, '\0');
   H5Aget_name(attribute, name.size(), name.data());
   name.resize(static_cast<std::size_t>(length));
-  const auto& attributes = stored_string_attributes(file_name, source.owner_header);
-  const auto found = attributes.find(name);
-  if (found == attributes.end()) return {};
+  const auto& strings = stored_attributes(file_name, source.owner_header).strings;
+  const auto found = strings.find(name);
+  if (found == strings.end()) return {};
   const StoredStringAttribute& stored = found->second;
   if (!stored.fault.empty()) fail(source.where, "corrupt: " + stored.fault);
   if (stored.count != count) {
@@ -1260,6 +1291,7 @@ void Group::set_attribute(std::string_view attr, const std::vector<std::string>&
 
 bool Group::has_attribute(std::string_view attr, std::string_view object) const {
   if (!link_exists(handle_.get(), object)) return false;
+  check_attribute_messages(handle_.get(), std::string(object), where(object));
   return H5Aexists_by_name(handle_.get(), std::string(object).c_str(), std::string(attr).c_str(),
                            H5P_DEFAULT) > 0;
 }

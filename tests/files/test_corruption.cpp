@@ -266,29 +266,32 @@ TEST(corruption, VariableLengthStringAttributeReferencesAreChecked) {
   ASSERT_NO_THROW(read_all(good));
 
   const std::vector<char> bytes = load(good);
-  // Each case: what is corrupted, the byte, what is xor-ed into it.
+  // Each case: what is corrupted, the byte, what is xor-ed into it, the reason the error must give.
   struct Case {
     std::string what;
     std::size_t at;
     unsigned char flip;
+    std::string reason;
   };
   std::vector<Case> cases;
   const auto reference = [&](const std::string& text, std::size_t byte, unsigned char flip) {
     const std::size_t at = find_reference(bytes, text);
-    if (at > 0)
-      cases.push_back({"reference of '" + text + "', byte " + std::to_string(byte), at + byte, flip});
+    if (at > 0) {
+      cases.push_back({"reference of '" + text + "', byte " + std::to_string(byte), at + byte, flip,
+                       "refers to no stored string of its length"});
+    }
   };
-  reference(label, 0, 0x08);     // length 8 bytes off: HDF5 copies the object into a shorter buffer
-  reference(label, 2, 0x01);     // length of 64 kB: a buffer far longer than the object
-  reference(label, 3, 0x40);     // length of 1 GB
-  reference(label, 4, 0x08);     // collection address 8 bytes off: inside the collection
-  reference(label, 6, 0x10);     // collection address 1 MB off: beyond the end of the file
-  reference(label, 12, 0x20);    // object index the collection does not have
-  reference(label, 13, 0x01);    // object index 256 up
-  reference(names[1], 0, 0x01);  // the second string of a 1-D attribute
-  reference(names[1], 12, 0x04);
-  reference(units, 0, 0x02);  // an attribute of a dataset, not of the root group
-  reference(units, 5, 0x01);
+  reference(label, 0, 0x08);      // length 8 bytes off: HDF5 copies the object into a shorter buffer
+  reference(label, 2, 0x01);      // length of 64 kB: a buffer far longer than the object
+  reference(label, 3, 0x40);      // length of 1 GB
+  reference(label, 4, 0x08);      // collection address 8 bytes off: inside the collection
+  reference(label, 6, 0x10);      // collection address 1 MB off: beyond the end of the file
+  reference(label, 12, 0x20);     // object index the collection does not have
+  reference(label, 13, 0x01);     // object index 256 up
+  reference(names[1], 0, 0x01);   // the second string of a 1-D attribute
+  reference(names[1], 12, 0x04);  // its index
+  reference(units, 0, 0x02);      // an attribute of a dataset, not of the root group
+  reference(units, 5, 0x01);      // its collection address
   ASSERT_EQ(cases.size(), 11u);
   // The attribute message of "label" in the root group's version-1 object header: its name, padded to 8
   // bytes, follows the sizes of the name, datatype and dataspace (2 bytes each); its datatype follows the
@@ -297,19 +300,33 @@ TEST(corruption, VariableLengthStringAttributeReferencesAreChecked) {
   const std::size_t name =
       std::string_view(bytes.data(), bytes.size()).find(std::string_view("label\0\0\0", 8));
   ASSERT_NE(name, std::string_view::npos);
-  cases.push_back({"base type size of 'label'", name + 8 + 12, 0x02});  // characters of 3 bytes
+  // Characters of 3 bytes: HDF5 would read every third.
+  cases.push_back({"base type size of 'label'", name + 8 + 12, 0x02, "not of 8-bit characters"});
+  // Its dataspace 32 kB on, beyond the header: HDF5 would decode it there (a crash, or garbage).
+  cases.push_back({"datatype size of 'label'", name - 3, 0x80, "run past its message"});
+
   const fs::path bad = dir / "attributes_bad.h5";
   Figures figures;
   for (const Case& c : cases) {
     std::vector<char> copy = bytes;
     copy[c.at] ^= static_cast<char>(c.flip);
     save(bad, copy, copy.size());
+    // Refused by the readers' checks (the reason in the message), not by what HDF5 made of the bytes.
+    const auto read_checked = [&](const fs::path& p) {
+      try {
+        read_all(p);
+      } catch (const nvh::Error& e) {
+        if (std::string(e.what()).find(c.reason) == std::string::npos)
+          throw std::runtime_error(std::string("refused without the reason expected: ") + e.what());
+        throw;
+      }
+    };
     const Figures before = figures;
-    read_one(bad, read_all, figures);
+    read_one(bad, read_checked, figures);
     const bool refused = figures.errors == before.errors + 1 && figures.unnamed == before.unnamed &&
                          figures.crashes == before.crashes;
-    EXPECT_TRUE(refused) << c.what << " ^ " << static_cast<int>(c.flip)
-                         << ": not refused by an error naming the file";
+    EXPECT_TRUE(refused) << c.what << " ^ " << static_cast<int>(c.flip) << ": not refused (" << c.reason
+                         << ") by an error naming the file";
   }
   EXPECT_EQ(figures.unnamed, 0);
   EXPECT_EQ(figures.crashes, 0);
