@@ -11,6 +11,7 @@
 #include <map>
 #include <mutex>
 #include <numeric>
+#include <set>
 #include <system_error>
 #include <utility>
 
@@ -149,23 +150,83 @@ std::uint64_t little_endian(const unsigned char* p, int bytes);
 std::string file_name_of(hid_t object);
 bool read_only_with_default_sizes(hid_t object);
 
+// ---------------------------------------------------------------------------------------------
+// Object headers, read beside HDF5
+//
+// HDF5 1.10 trusts parts of the object headers it reads: a group's link storage addresses, the heap
+// references of variable-length string attributes. In files opened read-only (on disk as HDF5 sees them,
+// with its default 8-byte addresses and lengths: read_only_with_default_sizes), those are read here first
+// and checked. Only version-1 object headers are walked: they carry no checksum. Version-2 headers ("OHDR")
+// carry one, which HDF5 verifies itself when it loads them.
+
+// Bytes of a file, read beside HDF5.
+class FileBytes {
+ public:
+  explicit FileBytes(const std::string& file_name) : in_(file_name, std::ios::binary) {}
+  // The `n` bytes at `at`, or none if they are not all in the file.
+  std::vector<unsigned char> read(std::uint64_t at, std::size_t n) {
+    std::vector<unsigned char> bytes(n);
+    in_.clear();
+    in_.seekg(static_cast<std::streamoff>(at));
+    if (!in_.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(n))) bytes.clear();
+    return bytes;
+  }
+
+ private:
+  std::ifstream in_;
+};
+
+// The key under which a check of the object header at `address` is cached: the file's path, size and
+// modification time (its contents, as far as a cache can tell) and the address.
+std::string header_key(const std::string& file_name, std::uint64_t address) {
+  std::error_code error;
+  return file_name + "|" + std::to_string(std::filesystem::file_size(file_name, error)) + "|" +
+         std::to_string(std::filesystem::last_write_time(file_name, error).time_since_epoch().count()) + "|" +
+         std::to_string(address);
+}
+
+// Calls `message(type, flags, data, size)` for each message of the version-1 object header at `address`,
+// in HDF5's order, until it returns false. HDF5 File Format Specification (version 0/1 superblocks),
+// "Version 1 Data Object Header Prefix": version (1 byte, = 1), reserved (1), number of messages (2),
+// reference count (4), size of the first message block (4), padding to 16 bytes; the first block follows.
+// Each message: type (2 bytes), size of its data (2), flags (1), reserved (3), then the data (a multiple of
+// 8 bytes). A continuation message (type 0x0010: address (8), length (8) of a further block) adds a block.
+// Does nothing for a header of another version, and stops where HDF5 could not have written what it finds
+// (a message running past its block, a block of more than 1 MiB, more than 64 blocks): HDF5 judges those.
+void walk_v1_object_header(FileBytes& file, std::uint64_t address,
+                           const std::function<bool(unsigned type, unsigned flags, const unsigned char* data,
+                                                    std::size_t size)>& message) {
+  const std::vector<unsigned char> prefix = file.read(address, 16);
+  if (prefix.size() != 16 || prefix[0] != 1) return;
+  std::vector<std::pair<std::uint64_t, std::uint64_t>> blocks = {
+      {address + 16, little_endian(&prefix[8], 4)}};
+  for (std::size_t b = 0; b < blocks.size() && b < 64; ++b) {
+    if (blocks[b].second > (1u << 20)) return;
+    const std::vector<unsigned char> block =
+        file.read(blocks[b].first, static_cast<std::size_t>(blocks[b].second));
+    for (std::size_t at = 0; at + 8 <= block.size();) {
+      const auto type = static_cast<unsigned>(little_endian(&block[at], 2));
+      const auto size = static_cast<std::size_t>(little_endian(&block[at + 2], 2));
+      if (at + 8 + size > block.size()) break;
+      const unsigned char* data = &block[at + 8];
+      if (type == 0x10 && size >= 16) blocks.emplace_back(little_endian(data, 8), little_endian(data + 8, 8));
+      if (!message(type, block[at + 4], data, size)) return;
+      at += 8 + size;
+    }
+  }
+}
+
 // A group's link storage, checked before HDF5 looks a name up in it. A group of the 1.8 format has a
-// "link info" message in its object header; when a flipped byte makes its fractal-heap address look
-// defined, HDF5 1.10 opens a B-tree at the (undefined or garbage) name-index address and crashes in its
-// metadata accumulator. So, for files opened read-only (on disk as HDF5 sees them), the header is read
-// beside HDF5 (version-1 object headers, which carry no checksum; others are left to HDF5's checksums)
-// and dense link storage must point at a B-tree header ("BTHD") and a fractal heap ("FRHP").
+// "link info" message (type 0x0002) in its object header; when a flipped byte makes its fractal-heap
+// address look defined, HDF5 1.10 opens a B-tree at the (undefined or garbage) name-index address and
+// crashes in its metadata accumulator. So dense link storage must point at a B-tree header ("BTHD") and a
+// fractal heap ("FRHP"). Checked once per file contents and header address.
 void check_group_links(hid_t group) {
   if (H5Iget_type(group) != H5I_GROUP || !read_only_with_default_sizes(group)) return;
   H5O_info_t info;
   if (H5Oget_info2(group, &info, H5O_INFO_BASIC) < 0) return;
   const std::string file_name = file_name_of(group);
-  // Checked once per file contents (path, size, time) and header address.
-  std::error_code error;
-  const std::string key =
-      file_name + "|" + std::to_string(std::filesystem::file_size(file_name, error)) + "|" +
-      std::to_string(std::filesystem::last_write_time(file_name, error).time_since_epoch().count()) + "|" +
-      std::to_string(info.addr);
+  const std::string key = header_key(file_name, info.addr);
   static std::mutex mutex;
   static std::map<std::string, std::string> checked;  // "" if sound
   const std::lock_guard<std::mutex> lock(mutex);
@@ -174,51 +235,164 @@ void check_group_links(hid_t group) {
   if (known != checked.end()) {
     fault = known->second;
   } else {
-    std::ifstream in(file_name, std::ios::binary);
-    auto read = [&in](std::uint64_t at, std::size_t n) {
-      std::vector<unsigned char> bytes(n);
-      in.clear();
-      in.seekg(static_cast<std::streamoff>(at));
-      if (!in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(n))) bytes.clear();
-      return bytes;
-    };
-    const std::vector<unsigned char> prefix = read(info.addr, 16);
-    // Message blocks to walk: the first after the 16-byte prefix, then any continuation blocks.
-    std::vector<std::pair<std::uint64_t, std::uint64_t>> blocks;
-    if (prefix.size() == 16 && prefix[0] == 1)
-      blocks.emplace_back(info.addr + 16, little_endian(&prefix[8], 4));
-    for (std::size_t b = 0; b < blocks.size() && b < 64 && fault.empty(); ++b) {
-      if (blocks[b].second > (1u << 20)) break;  // not a header HDF5 wrote; let HDF5 judge it
-      const std::vector<unsigned char> block =
-          read(blocks[b].first, static_cast<std::size_t>(blocks[b].second));
-      for (std::size_t at = 0; at + 8 <= block.size();) {
-        const auto type = little_endian(&block[at], 2);
-        const auto size = static_cast<std::size_t>(little_endian(&block[at + 2], 2));
-        if (at + 8 + size > block.size()) break;
-        const unsigned char* data = &block[at + 8];
-        if (type == 0x10 && size >= 16)
-          blocks.emplace_back(little_endian(data, 8), little_endian(data + 8, 8));
-        if (type == 0x02 && size >= 18) {  // link info: version, flags, [max index], heap, name B-tree
+    FileBytes file(file_name);
+    walk_v1_object_header(
+        file, info.addr, [&](unsigned type, unsigned, const unsigned char* data, std::size_t size) {
+          if (type != 0x02 || size < 18) return true;
+          // Link info: version, flags, [maximum creation index (8) if flags bit 0], fractal heap address,
+          // name index B-tree address, [creation order B-tree address].
           const std::size_t skip = (data[1] & 1) ? 8 : 0;
-          if (2 + skip + 16 <= size) {
-            const std::uint64_t heap = little_endian(data + 2 + skip, 8);
-            const std::uint64_t names = little_endian(data + 2 + skip + 8, 8);
-            const std::uint64_t undefined = ~std::uint64_t{0};
-            if (heap != undefined) {
-              const std::vector<unsigned char> h = read(heap, 4), n = read(names, 4);
-              if (names == undefined || h.size() != 4 || n.size() != 4 ||
-                  std::memcmp(h.data(), "FRHP", 4) != 0 || std::memcmp(n.data(), "BTHD", 4) != 0) {
-                fault = "corrupt group (its link storage points at no B-tree or heap)";
-              }
-            }
+          if (2 + skip + 16 > size) return true;
+          const std::uint64_t heap = little_endian(data + 2 + skip, 8);
+          const std::uint64_t names = little_endian(data + 2 + skip + 8, 8);
+          const std::uint64_t undefined = ~std::uint64_t{0};
+          if (heap == undefined) return true;
+          const std::vector<unsigned char> h = file.read(heap, 4), n = file.read(names, 4);
+          if (names == undefined || h.size() != 4 || n.size() != 4 || std::memcmp(h.data(), "FRHP", 4) != 0 ||
+              std::memcmp(n.data(), "BTHD", 4) != 0) {
+            fault = "corrupt group (its link storage points at no B-tree or heap)";
           }
-        }
-        at += 8 + size;
-      }
-    }
+          return fault.empty();
+        });
     checked[key] = fault;
   }
   if (!fault.empty()) throw Error(file_name + ": " + fault);
+}
+
+// A variable-length string attribute as an object header stores it (what H5Aread will follow).
+struct StoredStringAttribute {
+  std::string fault;                      // what would make HDF5 misread it, "" if nothing
+  std::uint64_t count = 0;                // strings, as its dataspace says
+  std::vector<unsigned char> references;  // 16 bytes per string
+};
+
+// One attribute message, as far as it is decoded here.
+struct AttributeMessage {
+  std::string name;
+  std::string fault;     // a part of it that HDF5 1.10 would decode beyond the message, "" if none
+  bool strings = false;  // it holds variable-length strings, described by `stored`
+  StoredStringAttribute stored;
+};
+
+// Decodes an attribute message (type 0x000C) as HDF5 1.10 does (H5O__attr_decode), far enough to bound its
+// parts and to take the references of variable-length strings. HDF5 File Format Specification, "Attribute
+// Message": version (1), reserved (version 1) or flags (2, 3: bit 0 shared datatype, bit 1 shared
+// dataspace), sizes of the name (with its terminating zero), datatype and dataspace (2 bytes each), the
+// name's character set (version 3 only, 1 byte), then the name, datatype and dataspace, each padded to a
+// multiple of 8 bytes in version 1 only, then the data. The datatype ("Datatype Message") starts with its
+// class in the low 4 bits of byte 0 (9: variable-length), a class bit field (3 bytes; for class 9 the low 4
+// bits say sequence (0) or string (1)) and the element size (4); a class 9 type then holds its base type, a
+// datatype of the same form (class 0, fixed-point: then bit offset (2) and precision (2)). The dataspace
+// ("Dataspace Message"): version (1), rank (1), flags (1), then in version 1 five reserved bytes, in version
+// 2 a type (1: 0 scalar, 1 simple, 2 null); then the dimensions, 8 bytes each. HDF5 1.10.8 decodes the
+// datatype and dataspace where the sizes put them, unbounded, and copies (elements x element size) bytes of
+// data, bounded by the size of the whole message only: a flipped size makes it read beyond the message (and
+// crash). What HDF5 refuses itself (unknown versions, a name size other than the name's) and shared
+// datatypes or dataspaces (a reference elsewhere) are left undecoded.
+AttributeMessage decode_attribute_message(const unsigned char* data, std::size_t size) {
+  AttributeMessage message;
+  if (size < 8 || data[0] < 1 || data[0] > 3) return message;
+  const unsigned version = data[0];
+  const auto padded = [version](std::uint64_t n) { return version == 1 ? (n + 7) / 8 * 8 : n; };
+  const std::uint64_t name_at = version == 3 ? 9 : 8;
+  const std::uint64_t type_at = name_at + padded(little_endian(data + 2, 2));
+  const std::uint64_t space_at = type_at + padded(little_endian(data + 4, 2));
+  const std::uint64_t data_at = space_at + padded(little_endian(data + 6, 2));
+  if (name_at >= size) return message;
+  const char* text = reinterpret_cast<const char*>(data + name_at);
+  message.name.assign(text, strnlen(text, size - name_at));  // as HDF5: up to the terminating zero
+  if (little_endian(data + 2, 2) != message.name.size() + 1) return message;  // HDF5 refuses it itself
+  if (data_at > size) {
+    message.fault = "its name, datatype and dataspace run past its message";
+    return message;
+  }
+  if (version >= 2 && (data[1] & 3) != 0) return message;
+  const unsigned char* type = type_at + 8 <= size ? data + type_at : nullptr;
+  const unsigned char* space = space_at + 4 <= size ? data + space_at : nullptr;
+  const std::uint64_t dims_at = space != nullptr && space[0] == 1 ? 8 : 4;
+  if (type == nullptr || space == nullptr || (space[0] != 1 && space[0] != 2) || space[1] > 32)
+    return message;
+  if (space_at + dims_at + 8 * std::uint64_t{space[1]} > size) {
+    message.fault = "its dataspace runs past its message";
+    return message;
+  }
+  std::uint64_t count = space[0] == 2 && space[3] == 2 ? 0 : 1;  // a null dataspace has no elements
+  const std::uint64_t too_many = size + 1;  // more elements than fit in the message: a bound, not overflowing
+  for (unsigned d = 0; d < space[1]; ++d) {
+    const std::uint64_t dim = little_endian(space + dims_at + 8 * d, 8);
+    count = std::min(count * std::min(dim, too_many), too_many);
+  }
+  const std::uint64_t element = little_endian(type + 4, 4);
+  if (count * element > size - data_at) {
+    message.fault = "its data runs past its message";
+    return message;
+  }
+  if ((type[0] & 0x0f) != 9 || (type[1] & 0x0f) != 1) return message;  // not variable-length strings
+  message.strings = true;
+  StoredStringAttribute& stored = message.stored;
+  // HDF5 copies elements of the size the datatype says, then H5Aread takes them as 16-byte references.
+  if (element != 16) {
+    stored.fault = "its string type has elements of " + std::to_string(element) + " bytes, not 16";
+    return message;
+  }
+  // Its characters: the 1-byte unsigned integer type HDF5 gives every string (class 0, size 1, bit offset 0,
+  // precision 8). Other values make HDF5 convert each string with another character size (wrong strings,
+  // or gigabytes for a size of 2^29).
+  const unsigned char* base = type_at + 20 <= size ? type + 8 : nullptr;
+  if (base == nullptr || (base[0] & 0x0f) != 0 || little_endian(base + 4, 4) != 1 ||
+      little_endian(base + 8, 2) != 0 || little_endian(base + 10, 2) != 8) {
+    stored.fault = "its strings are not of 8-bit characters";
+    return message;
+  }
+  stored.count = count;
+  stored.references.assign(data + data_at, data + data_at + 16 * count);
+  return message;
+}
+
+// The attribute messages of one object header, as read beside HDF5.
+struct StoredAttributes {
+  std::string fault;  // the first message HDF5 would decode beyond, "" if none
+  std::map<std::string, StoredStringAttribute> strings;  // variable-length string attributes, by name
+};
+
+// The attribute messages of the version-1 object header at `address` (HDF5 opens the first message of a
+// name); none for headers of another version (checksummed; their attributes may also be in dense storage,
+// a fractal heap, not read here). Read once per file contents and header address.
+const StoredAttributes& stored_attributes(const std::string& file_name, std::uint64_t address) {
+  static std::mutex mutex;
+  static std::map<std::string, StoredAttributes> known;
+  const std::string key = header_key(file_name, address);
+  const std::lock_guard<std::mutex> lock(mutex);
+  const auto found = known.find(key);
+  if (found != known.end()) return found->second;
+  StoredAttributes& attributes = known[key];
+  std::set<std::string> names;  // of every attribute message, strings or not
+  const auto take = [&](unsigned type, unsigned flags, const unsigned char* data, std::size_t size) {
+    // Attribute messages (0x000C), unless shared (message flags bit 1: the data is a reference to them).
+    if (type != 0x0c || (flags & 2) != 0) return true;
+    AttributeMessage message = decode_attribute_message(data, size);
+    if (attributes.fault.empty() && !message.fault.empty())
+      attributes.fault = "corrupt attribute '" + message.name + "' (" + message.fault + ")";
+    if (message.strings && names.count(message.name) == 0)
+      attributes.strings.emplace(message.name, std::move(message.stored));
+    names.insert(message.name);
+    return true;
+  };
+  FileBytes file(file_name);
+  walk_v1_object_header(file, address, take);
+  return attributes;
+}
+
+// Before HDF5 decodes the attribute messages of `object` (H5Aexists_by_name and H5Aopen_by_name decode them
+// in turn until the one named): in a file opened read-only, none may have a part HDF5 would decode beyond
+// its message. Returns the address of the object's header, HADDR_UNDEF if it was not read (other files).
+haddr_t check_attribute_messages(hid_t loc, const std::string& object, const std::string& object_where) {
+  if (!read_only_with_default_sizes(loc)) return HADDR_UNDEF;
+  H5O_info_t info;
+  if (H5Oget_info_by_name2(loc, object.c_str(), &info, H5O_INFO_BASIC, H5P_DEFAULT) < 0) return HADDR_UNDEF;
+  const StoredAttributes& attributes = stored_attributes(file_name_of(loc), info.addr);
+  if (!attributes.fault.empty()) fail(object_where, attributes.fault);
+  return info.addr;
 }
 
 // The group at `path` (opened, checked by check_group_links), or an invalid handle if it is not a group.
@@ -413,6 +587,9 @@ void write_attribute(hid_t loc, std::string_view object, std::string_view attr,
 struct Source {
   Handle object;  // a dataset or an attribute
   std::string where;
+  // An attribute's: the address of the object header it is stored in (H5Oget_info2 on an attribute gives
+  // the object it was opened from, not the one it is attached to).
+  haddr_t owner_header = HADDR_UNDEF;
   bool is_attribute() const { return H5Iget_type(object.get()) == H5I_ATTR; }
 };
 
@@ -472,13 +649,14 @@ Source open_attribute(hid_t loc, std::string_view object, std::string_view attr,
   if (!link_exists(loc, object)) fail(object_where, "no such group or dataset");
   const std::string object_name(object);
   const std::string attr_name(attr);
+  const haddr_t header = check_attribute_messages(loc, object_name, object_where);
   if (H5Aexists_by_name(loc, object_name.c_str(), attr_name.c_str(), H5P_DEFAULT) <= 0) {
     fail(object_where, "no attribute '" + attr_name + "'");
   }
   Handle attribute(
       check_id(H5Aopen_by_name(loc, object_name.c_str(), attr_name.c_str(), H5P_DEFAULT, H5P_DEFAULT), where,
                "cannot open the attribute"));
-  return Source{std::move(attribute), where};
+  return Source{std::move(attribute), where, header};
 }
 
 // Shape checks. Each returns the extent, or throws "expected ..., found shape (...)".
@@ -548,9 +726,9 @@ std::vector<std::int64_t> read_int64s(const Source& source, hsize_t count) {
 // object index the collection does not have, a length shorter than the object), makes it read or copy
 // out of bounds and crash. So before the first variable-length read of a file, every collection in it
 // (found by its "GCOL" signature) is checked the way HDF5 will walk it; and before reading a
-// variable-length dataset, each of its references (raw bytes, read beside HDF5) is checked against the
-// collection it points into. Attributes' references cannot be reached through the API (they sit inside
-// object headers): for them the collection check is what there is (docs/cli.md, "corrupted inputs").
+// variable-length dataset or attribute, each of its references (raw bytes, read beside HDF5: a dataset's
+// from its contiguous storage, an attribute's from its owner's object header) is checked against the
+// collection it points into (docs/cli.md, "corrupted input files").
 // The checks assume HDF5's default 8-byte addresses and lengths and no user block; other files are read
 // unchecked.
 
@@ -677,7 +855,59 @@ const HeapCheck& heap_check(const std::string& file_name) {
   return check;
 }
 
-// Before HDF5 reads variable-length strings from `source`: the checks above; throws naming the file.
+// One stored variable-length string's reference (16 bytes: length (4), collection address (8), object
+// index (4)) checked against the collections of `check`: true if it refers to a stored string of its length,
+// the object H5HG_read will copy into a buffer of that length (plus a terminator).
+bool reference_is_sound(const HeapCheck& check, const unsigned char* reference) {
+  const std::uint64_t length = little_endian(reference, 4);
+  const std::uint64_t address = little_endian(reference + 4, 8);
+  const std::uint64_t index = little_endian(reference + 12, 4);
+  if (length == 0 && address == 0) return true;  // an empty string: nothing stored
+  const auto collection = check.collections.find(address);
+  if (collection == check.collections.end() || index > 0xffff) return false;
+  const auto object = collection->second.objects.find(static_cast<std::uint16_t>(index));
+  return object != collection->second.objects.end() && object->second == length;
+}
+
+// The references of a variable-length string dataset of `count` strings, read from its contiguous
+// storage; none (unchecked) for chunked or compact storage, which is not reachable beside HDF5.
+std::vector<unsigned char> dataset_references(const Source& source, const std::string& file_name,
+                                              hsize_t count) {
+  const hid_t object = source.object.get();
+  const haddr_t offset = H5Dget_offset(object);
+  if (offset == HADDR_UNDEF) return {};
+  if (H5Dget_storage_size(object) != 16 * count)
+    fail(source.where, "corrupt: storage size does not match its shape");
+  std::vector<unsigned char> references =
+      FileBytes(file_name).read(offset, static_cast<std::size_t>(16 * count));
+  if (references.empty()) fail(source.where, "corrupt: its data lies beyond the end of the file");
+  return references;
+}
+
+// The references of a variable-length string attribute of `count` strings, read from the object header of
+// the object it is attached to; none (unchecked) if that header was not read (stored_attributes).
+std::vector<unsigned char> attribute_references(const Source& source, const std::string& file_name,
+                                                hsize_t count) {
+  const hid_t attribute = source.object.get();
+  if (source.owner_header == HADDR_UNDEF) return {};
+  const ssize_t length = H5Aget_name(attribute, 0, nullptr);
+  if (length < 0) return {};
+  std::string name(static_cast<std::size_t>(length) + 1, '\0');
+  H5Aget_name(attribute, name.size(), name.data());
+  name.resize(static_cast<std::size_t>(length));
+  const auto& strings = stored_attributes(file_name, source.owner_header).strings;
+  const auto found = strings.find(name);
+  if (found == strings.end()) return {};
+  const StoredStringAttribute& stored = found->second;
+  if (!stored.fault.empty()) fail(source.where, "corrupt: " + stored.fault);
+  if (stored.count != count) {
+    fail(source.where, "corrupt: its object header holds " + std::to_string(stored.count) + " strings, not " +
+                           std::to_string(count));
+  }
+  return stored.references;
+}
+
+// Before HDF5 reads `count` variable-length strings from `source`: the checks above; throws naming the file.
 void check_variable_length_strings(const Source& source, hsize_t count) {
   const hid_t object = source.object.get();
   if (!read_only_with_default_sizes(object)) return;
@@ -685,28 +915,11 @@ void check_variable_length_strings(const Source& source, hsize_t count) {
   if (file_name.empty()) return;
   const HeapCheck& check = heap_check(file_name);
   if (!check.error.empty()) fail(source.where, check.error);
-  if (source.is_attribute()) return;
-  const haddr_t offset = H5Dget_offset(object);
-  if (offset == HADDR_UNDEF) return;  // not contiguous (chunked or compact): references not reachable
-  if (H5Dget_storage_size(object) != 16 * count)
-    fail(source.where, "corrupt: storage size does not match its shape");
-  std::vector<unsigned char> references(static_cast<std::size_t>(16 * count));
-  std::ifstream in(file_name, std::ios::binary);
-  in.seekg(static_cast<std::streamoff>(offset));
-  if (!in.read(reinterpret_cast<char*>(references.data()), static_cast<std::streamsize>(references.size()))) {
-    fail(source.where, "corrupt: its data lies beyond the end of the file");
-  }
-  for (hsize_t i = 0; i < count; ++i) {
-    const unsigned char* reference = references.data() + 16 * i;
-    const std::uint64_t length = little_endian(reference, 4);
-    const std::uint64_t address = little_endian(reference + 4, 8);
-    const auto index = static_cast<std::uint16_t>(little_endian(reference + 12, 4));
-    if (length == 0 && address == 0) continue;  // an empty string: nothing stored
-    const auto collection = check.collections.find(address);
-    const bool ok = collection != check.collections.end() && little_endian(reference + 12, 4) <= 0xffff &&
-                    collection->second.objects.count(index) > 0 &&
-                    collection->second.objects.at(index) == length;
-    if (!ok) {
+  const std::vector<unsigned char> references = source.is_attribute()
+                                                    ? attribute_references(source, file_name, count)
+                                                    : dataset_references(source, file_name, count);
+  for (std::size_t i = 0; i < references.size() / 16; ++i) {
+    if (!reference_is_sound(check, references.data() + 16 * i)) {
       fail(source.where,
            "corrupt: string " + std::to_string(i) + " refers to no stored string of its length");
     }
@@ -1078,6 +1291,7 @@ void Group::set_attribute(std::string_view attr, const std::vector<std::string>&
 
 bool Group::has_attribute(std::string_view attr, std::string_view object) const {
   if (!link_exists(handle_.get(), object)) return false;
+  check_attribute_messages(handle_.get(), std::string(object), where(object));
   return H5Aexists_by_name(handle_.get(), std::string(object).c_str(), std::string(attr).c_str(),
                            H5P_DEFAULT) > 0;
 }
