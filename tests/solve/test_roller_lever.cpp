@@ -100,6 +100,7 @@ roller_width = 0.015
 stiffness = )" +
          num(stiffness) + R"(
 restitution = 0.3
+reference_speed = 0.01
 [[force]]
 name = "lever_spring"
 type = "torsional-spring-damper"
@@ -114,19 +115,22 @@ i = "camshaft.lobe"
 j = "ground.axis"
 end_angle_deg = 360
 [integrator]
-method = "generalized-alpha"
-step = 1e-4
-rho_inf = 0.8
+rtol = 1e-7
+atol = 1e-10
+velocity_atol = 1e-6
+max_step = 1e-3
 [output]
 sample_rate_hz = 500
 markers = ["lever.roller"]
 )";
 }
 
-// Integrated by generalized-alpha (0.1 ms steps, 0.35 s for the revolution). IDA (rtol 1e-7) takes the same
-// answer (position 5.0e-8 m, force 0.05 N) but rejects 95 % of its steps on this scene - 48k of 51k for the
-// first 90 deg, 4 s, stuck at order 1 with 9 us steps - which the radial roller tappets of the valvetrain do
-// not show (3 %); not understood yet (docs/valvetrain.md section 2, "Not modelled").
+// The contact's damping: restitution 0.3 at 0.01 m/s (Hunt-Crossley's alpha = 105 s/m), which damps the
+// contact's own mode (21 kHz: the lever's inertia on 1e9 N/m) to about critical. With the reference speed at
+// 1 m/s that mode keeps 1.4 % of critical, which BDF orders 3-5 cannot integrate stably at steps longer than
+// its period (A(alpha) of 86, 73, 52 deg against its 89.2 deg): IDA then stays at order 1 and rejects 95 % of
+// its steps (48k of 51k over 90 deg, 4 s) for the same answer; with the damping it takes 600 steps and
+// rejects 4.
 TEST(RollerLever, FollowsTheEccentricCamAndCarriesTheSpringsMoment) {
   constexpr double kStiffness = 1e9;  // N/m, linear: the contact gives way F / k (0.2 um here)
   const auto out = testing::run_text(lever_scene(kStiffness), "roller_lever");
@@ -163,8 +167,8 @@ TEST(RollerLever, FollowsTheEccentricCamAndCarriesTheSpringsMoment) {
       swing * 180 / kPi, f_max, err_position, err_force, err_torque);
   EXPECT_GT(swing, 0.15);              // rad: the lever really swings (about 10 mm / 60 mm)
   EXPECT_LT(err_position, 1e-7);       // m, of a 10 mm lift (measured 5.1e-8)
-  EXPECT_LT(err_force, 3e-3 * f_max);  // the contact's ringing at 21 kHz under 0.1 ms steps (measured 1.5e-3)
-  EXPECT_LT(err_torque, 3e-3 * f_max * kE);
+  EXPECT_LT(err_force, 1e-3 * f_max);  // inertia and damping at 30 rpm, neglected
+  EXPECT_LT(err_torque, 1e-3 * f_max * kE);
 }
 
 }  // namespace
