@@ -100,6 +100,9 @@ struct ReductionSettings {
   double fmax_hz = 0.0;  ///< keep modes up to fmax (> 0) ...
   int modes = 0;         ///< ... or this many modes (> 0); exactly one of the two is set
   bool orthonormalize = true;
+  /// Modal only: add the inertia-relief residual (attachment) modes of the interface DOF, so a static
+  /// load at the interfaces is represented exactly (reduction.cpp, residual_attachment_modes).
+  bool residual_modes = false;
   double damping_ratio = 0.0;                ///< modal damping ratio zeta of the retained modes
   SourceLocation where;                      ///< of fmax or modes (or of the table), for messages
   std::string where_key = "reduction.fmax";  ///< the key (or command-line option) that set the count

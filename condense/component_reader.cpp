@@ -230,6 +230,7 @@ ReductionSettings read_reduction(const Table& t) {
   r.where_key = fmax ? "reduction.fmax" : modes ? "reduction.modes" : "reduction";
   r.modes = static_cast<int>(modes.value_or(0));
   r.orthonormalize = t.optional_boolean("orthonormalize").value_or(true);
+  r.residual_modes = t.optional_boolean("residual_modes").value_or(false);
   r.damping_ratio = t.number_or("damping_ratio", 0.0, Range{0.0, 1.0, false, true});
   t.finish();
   return r;

@@ -104,6 +104,11 @@ void check_reduction(const Component& component) {
                     "or --fmax / --modes on the command line",
                 r.where, "reduction");
   }
+  if (r.residual_modes && r.method != ReductionMethod::kModal) {
+    throw Error("residual_modes = true works with method = \"modal\" only (" + to_string(r.method) +
+                    " keeps the interface DOF, whose constraint modes already carry static loads there)",
+                r.where, "reduction.residual_modes");
+  }
 }
 
 int count_rigid_body_modes(const FeModel& model) {

@@ -1,6 +1,7 @@
 #include "condense/reduction.hpp"
 
 #include <Eigen/Eigenvalues>
+#include <Eigen/QR>
 #include <algorithm>
 #include <cmath>
 #include <memory>
@@ -59,9 +60,125 @@ Eigen::MatrixXd modal_damping(const Eigen::MatrixXd& mass, const Eigen::MatrixXd
   return mx * (2.0 * zeta * omega).asDiagonal() * mx.transpose();
 }
 
+/// A x for a symmetric sparse A stored whole or as its lower triangle.
+Eigen::MatrixXd symmetric_times(const SparseMatrix& a, bool lower, const Eigen::MatrixXd& x) {
+  if (lower) return a.selfadjointView<Eigen::Lower>() * x;
+  return a * x;
+}
+
+struct ResidualModes {
+  Eigen::MatrixXd vectors;  ///< n x k, M-orthonormal, K-orthogonal, M-orthogonal to Phi_r and Phi_e
+  Eigen::VectorXd lambda;   ///< their Rayleigh quotients omega^2 (ascending), rad^2/s^2
+  int dropped = 0;          ///< load directions already represented by the kept modes (dependent)
+  FactorStats factor;
+};
+
+/// Inertia-relief residual attachment modes of the unit loads F (n x nb, columns e_j at the interface
+/// DOF), after Craig and Kurdila, Fundamentals of Structural Dynamics, 2nd ed. 2006, ch. 17 (attachment
+/// modes of a free component, inertia relief, residual flexibility); MacNeal (1971) for the residual
+/// flexibility. Phi_r: the rigid-body modes (M-orthonormal, may be empty for a supported component),
+/// Phi_e: the kept elastic modes (M-orthonormal), Lambda_e their eigenvalues.
+///
+///  (1) inertia-relief projector      P = I - M Phi_r Phi_r^T     (P F is self-equilibrated: Phi_r^T P F = 0)
+///  (2) elastic flexibility           G_e = P^T K_c^-1 P          with K_c = K with r statically determinate
+///                                    DOF held (r = number of rigid-body modes; K_c^-1 padded with zeros
+///                                    on them). G_e = Phi_all,e Lambda_all,e^-1 Phi_all,e^T, independent
+///                                    of which determinate DOF are held.
+///  (3) residual flexibility          G_res = G_e - Phi_e Lambda_e^-1 Phi_e^T, applied to F:
+///                                    Psi = G_res F = (I - Phi_e Phi_e^T M) G_e F
+///  (4) M-orthonormalize Psi (Gram matrix Psi^T M Psi = V D V^T, T = V D^-1/2, directions with
+///      D < 1e-12 relative to the unit-normalized columns dropped as dependent) and diagonalize its
+///      stiffness (T^T Psi^T K Psi T = W Lambda_res W^T): Psi <- Psi T W.
+/// Then span[Phi_e, Psi] contains G_e F, so a static load at the interfaces (self-equilibrated, or
+/// balanced by inertia relief) is reproduced exactly by the reduced model; Phi_e^T K Psi = Lambda_e
+/// Phi_e^T M Psi = 0 keeps the reduced matrices diagonal and the kept modes' frequencies unchanged, and
+/// Psi being M-orthogonal to the lowest modes puts each Lambda_res above Lambda_e's top (Rayleigh).
+ResidualModes residual_attachment_modes(const SparseMatrix& K, const SparseMatrix& M, bool lower,
+                                        const std::vector<int>& load_dofs, const Eigen::MatrixXd& phi_r,
+                                        const Eigen::MatrixXd& phi_e, Ordering ordering) {
+  const int n = static_cast<int>(K.rows());
+  const int nb = static_cast<int>(load_dofs.size());
+  const int rigid = static_cast<int>(phi_r.cols());
+  Eigen::MatrixXd f = Eigen::MatrixXd::Zero(n, nb);
+  for (int j = 0; j < nb; ++j) f(load_dofs[j], j) = 1.0;
+
+  // (1) P F = F - M Phi_r (Phi_r^T F).
+  const Eigen::MatrixXd m_phi_r = symmetric_times(M, lower, phi_r);
+  const Eigen::MatrixXd pf = f - m_phi_r * (phi_r.transpose() * f);
+
+  // (2) A statically determinate set of `rigid` DOF: the pivots of a column-pivoted QR of Phi_r^T, on
+  // which Phi_r is nonsingular; held, they leave K_c positive definite (its kernel is rigid motion).
+  std::vector<bool> held(n, false);
+  if (rigid > 0) {
+    Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(phi_r.transpose());
+    for (int k = 0; k < rigid; ++k) held[qr.colsPermutation().indices()(k)] = true;
+  }
+  std::vector<int> keep;
+  keep.reserve(n);
+  for (int d = 0; d < n; ++d)
+    if (!held[d]) keep.push_back(d);
+  SparseCholesky chol(ordering);
+  if (!chol.factorize(submatrix(K, keep, keep))) {
+    throw Error(
+        "residual modes: the stiffness with the rigid-body motion held is not positive definite (a "
+        "mechanism, or more rigid-body modes than counted)");
+  }
+  Eigen::MatrixXd rhs(static_cast<Eigen::Index>(keep.size()), nb);
+  for (std::size_t i = 0; i < keep.size(); ++i) rhs.row(static_cast<Eigen::Index>(i)) = pf.row(keep[i]);
+  const Eigen::MatrixXd uc = chol.solve(rhs);
+  Eigen::MatrixXd psi = Eigen::MatrixXd::Zero(n, nb);
+  for (std::size_t i = 0; i < keep.size(); ++i) psi.row(keep[i]) = uc.row(static_cast<Eigen::Index>(i));
+  // P^T u = u - Phi_r (Phi_r^T M u): the attachment modes G_e F, M-orthogonal to the rigid-body modes.
+  psi -= phi_r * (m_phi_r.transpose() * psi);
+
+  // Unit M-norm columns, so the dependence test below does not depend on force vs moment units.
+  for (int j = 0; j < nb; ++j) {
+    const double norm = std::sqrt(psi.col(j).dot(symmetric_times(M, lower, psi.col(j)).col(0)));
+    if (norm > 0) psi.col(j) /= norm;
+  }
+  // (3) Remove the kept modes (and, for round-off, the rigid ones again), twice ("twice is enough":
+  // Giraud et al., Numer. Math. 101, 2005).
+  Eigen::MatrixXd basis(n, rigid + phi_e.cols());
+  basis << phi_r, phi_e;
+  const Eigen::MatrixXd m_basis = symmetric_times(M, lower, basis);
+  for (int pass = 0; pass < 2; ++pass) psi -= basis * (m_basis.transpose() * psi);
+
+  // (4) M-orthonormalize (dropping dependent directions), then diagonalize the stiffness.
+  ResidualModes out;
+  out.factor = chol.stats();
+  Eigen::MatrixXd gram = psi.transpose() * symmetric_times(M, lower, psi);
+  gram = 0.5 * (gram + gram.transpose()).eval();
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> g(gram);
+  std::vector<int> independent;
+  for (int j = 0; j < nb; ++j)
+    if (g.eigenvalues()(j) > 1e-12) independent.push_back(j);
+  out.dropped = nb - static_cast<int>(independent.size());
+  Eigen::MatrixXd t(nb, static_cast<Eigen::Index>(independent.size()));
+  for (std::size_t k = 0; k < independent.size(); ++k)
+    t.col(static_cast<Eigen::Index>(k)) =
+        g.eigenvectors().col(independent[k]) / std::sqrt(g.eigenvalues()(independent[k]));
+  psi = (psi * t).eval();
+  Eigen::MatrixXd kpp = psi.transpose() * symmetric_times(K, lower, psi);
+  kpp = 0.5 * (kpp + kpp.transpose()).eval();
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> w(kpp);
+  out.vectors = psi * w.eigenvectors();
+  out.lambda = w.eigenvalues().cwiseMax(0.0);
+  return out;
+}
+
 ReducedModel modal_reduction(ReductionInput& in, const Logger& log) {
   const ReductionSettings& s = in.settings;
   const int rigid = in.rigid_body_modes;
+  if (s.residual_modes && in.boundary_dofs.empty()) {
+    throw Error("residual_modes = true needs at least one [[interface]] point (its DOF are the load points)",
+                s.where, "reduction.residual_modes");
+  }
+  // The residual modes need K and M after the eigen-solve, which consumes them: keep copies then.
+  SparseMatrix K, M;
+  if (s.residual_modes) {
+    K = in.stiffness;
+    M = in.mass;
+  }
   EigenResult eig = solve_eigenproblem(std::move(in.stiffness), std::move(in.mass), request_for(s, rigid, in));
   const int found = static_cast<int>(eig.eigenvalues.size());
   if (found <= rigid) {
@@ -87,6 +204,43 @@ ReducedModel modal_reduction(ReductionInput& in, const Logger& log) {
   r.eigen_solves = eig.matrix_operations;
   log.detail("modal: " + std::to_string(m) + " elastic modes, " + hz(r.frequency_hz(0)) + " .. " +
              hz(r.frequency_hz(m - 1)));
+  if (!s.residual_modes) return r;
+
+  // Residual (attachment) modes of the interface DOF, appended after the kept modes. Both blocks are
+  // M-orthonormal and K-diagonal and the residual ones lie above the band (see residual_attachment_modes),
+  // so the reduced M stays I, K diagonal and the frequencies ascending, as the file requires; a sort
+  // guards the order against round-off.
+  const ResidualModes res = residual_attachment_modes(K, M, in.lower_triangles, in.boundary_dofs,
+                                                      eig.vectors.leftCols(rigid), r.basis, in.ordering);
+  r.factor.add(res.factor);
+  const int k = static_cast<int>(res.lambda.size());
+  Eigen::MatrixXd basis(r.basis.rows(), m + k);
+  basis << r.basis, res.vectors;
+  Eigen::VectorXd all_lambda(m + k);
+  all_lambda << lambda, res.lambda;
+  std::vector<std::string> names = r.coordinates;
+  for (int j = 0; j < k; ++j) names.push_back("residual mode " + std::to_string(j + 1));
+  std::vector<int> order(m + k);
+  for (int j = 0; j < m + k; ++j) order[j] = j;
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return all_lambda(a) < all_lambda(b); });
+  r.basis.resize(basis.rows(), m + k);
+  Eigen::VectorXd sorted(m + k);
+  r.coordinates.clear();
+  for (int j = 0; j < m + k; ++j) {
+    r.basis.col(j) = basis.col(order[j]);
+    sorted(j) = all_lambda(order[j]);
+    r.coordinates.push_back(names[order[j]]);
+  }
+  r.mass = Eigen::MatrixXd::Identity(m + k, m + k);
+  r.stiffness = sorted.asDiagonal();
+  const Eigen::VectorXd all_omega = sorted.cwiseSqrt();
+  r.damping = (2.0 * s.damping_ratio * all_omega).asDiagonal();
+  r.frequency_hz = all_omega / kTwoPi;
+  log.detail("modal: " + std::to_string(k) + " residual modes of " + std::to_string(in.boundary_dofs.size()) +
+             " interface DOF (" + std::to_string(res.dropped) + " dependent dropped), " +
+             (k > 0 ? hz(res.lambda.cwiseSqrt()(0) / kTwoPi) + " .. " +
+                          hz(res.lambda.cwiseSqrt()(k - 1) / kTwoPi)
+                    : std::string("none")));
   return r;
 }
 
