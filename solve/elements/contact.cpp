@@ -14,29 +14,10 @@
 namespace nvh::solve {
 namespace {
 
-class Contact final : public ForceElement {
+class Contact final : public contact::PointElement {
  public:
-  explicit Contact(contact::Parameters p) : law_(p) {}
+  using PointElement::PointElement;
   std::string type() const override { return "contact"; }
-  int marker_count() const override { return 2; }
-  contact::State state(const ElementInput& in) const { return law_.state(in.markers[0], in.markers[1]); }
-
-  void evaluate(const ElementInput& in, ElementOutput& out) const override {
-    const contact::State s = state(in);
-    if (s.delta <= 0) return;
-    apply_at_i(in, out, law_.force(s), Vec3::Zero(), in.markers[0].position);
-  }
-
-  // dF by the law (contact_law.cpp: columns i then j, as here); the reaction on j by jacobian_at_i.
-  bool jacobian(const ElementInput& in, ElementJacobian& jac) const override {
-    contact::PointJacobian df;
-    if (!law_.jacobian(in.markers[0], in.markers[1], df)) return true;  // no force around here
-    ElementRows dforce = zero_rows(jac);
-    dforce.leftCols<24>() = df;
-    jacobian_at_i(in, jac, dforce, zero_rows(jac), law_.force(state(in)));
-    return true;
-  }
-
   std::vector<Channel> channels() const override {
     return {{"gap", "m"}, {"normal_force", "N"}, {"slip_speed", "m/s"}};
   }
@@ -44,12 +25,6 @@ class Contact final : public ForceElement {
     const auto v = law_.channel_values(state(in));
     std::copy(v.begin(), v.end(), out.begin());
   }
-  ElementEnergy energy(const ElementInput& in) const override { return law_.energy(state(in)); }
-  int gap_count() const override { return 1; }
-  void gaps(const ElementInput& in, std::span<double> out) const override { out[0] = -state(in).delta; }
-
- private:
-  contact::Law law_;
 };
 
 }  // namespace

@@ -122,4 +122,20 @@ ElementEnergy Law::energy(const State& s) const {
   return {elastic * s.delta / (p_.exponent + 1.0), (fn - elastic) * s.delta_rate + mu(vt) * fn * vt};
 }
 
+void PointElement::evaluate(const ElementInput& in, ElementOutput& out) const {
+  const State s = state(in);
+  if (s.delta <= 0) return;
+  apply_at_i(in, out, law_.force(s), Vec3::Zero(), in.markers[0].position);
+}
+
+// dF by the law (columns i then j, as the element's); the reaction on j by jacobian_at_i.
+bool PointElement::jacobian(const ElementInput& in, ElementJacobian& jac) const {
+  PointJacobian df;
+  if (!law_.jacobian(in.markers[0], in.markers[1], df)) return true;  // open, or the clamp: no force
+  ElementRows dforce = zero_rows(jac);
+  dforce.leftCols<24>() = df;
+  jacobian_at_i(in, jac, dforce, zero_rows(jac), law_.force(state(in)));
+  return true;
+}
+
 }  // namespace nvh::solve::contact

@@ -1,6 +1,7 @@
 #pragma once
-// The point-against-plane contact law of one point, shared by `contact` (one point, contact.cpp) and
-// `point-set-contact` (many points against one plane, point_set_contact.cpp).
+// The point-against-plane contact law of one point, shared by `contact` (one point, contact.cpp),
+// `valve-seat` (the law along the seat's axis, valve_seat.cpp) and `point-set-contact` (many points against
+// one plane, point_set_contact.cpp).
 //
 // Point p (a marker's origin) against the plane through marker j normal to z_j (pointing out of j's material),
 // with clearance: gap = z_j . (p - p_j) + clearance, penetration delta = -gap (> 0 in contact).
@@ -10,6 +11,7 @@
 // The force F = fn z_j + ft acts on p's body at p; j's body gets the reaction.
 // Stored energy k delta^(n+1)/(n+1); dissipated: the damping part's power and the friction power.
 #include <array>
+#include <span>
 
 #include "common/input.hpp"
 #include "solve/force_element.hpp"
@@ -60,6 +62,24 @@ class Law {
  private:
   double alpha() const { return 3.0 * (1.0 - p_.restitution) / (2.0 * p_.reference_speed); }
   Parameters p_;
+};
+
+/// A force element that is one point on the law: marker i's origin against marker j's plane. Its force,
+/// Jacobian, energy and contact event are the law's; an element derived from it adds its type and channels
+/// (contact.cpp, valve_seat.cpp).
+class PointElement : public ForceElement {
+ public:
+  explicit PointElement(Parameters p) : law_(p) {}
+  int marker_count() const override { return 2; }
+  State state(const ElementInput& in) const { return law_.state(in.markers[0], in.markers[1]); }
+  void evaluate(const ElementInput& in, ElementOutput& out) const override;
+  bool jacobian(const ElementInput& in, ElementJacobian& jac) const override;
+  ElementEnergy energy(const ElementInput& in) const override { return law_.energy(state(in)); }
+  int gap_count() const override { return 1; }
+  void gaps(const ElementInput& in, std::span<double> out) const override { out[0] = -state(in).delta; }
+
+ protected:
+  Law law_;
 };
 
 }  // namespace nvh::solve::contact

@@ -74,28 +74,11 @@ struct Ring {
   double cos_angle;  // cos(beta)
 };
 
-class ValveSeat final : public ForceElement {
+class ValveSeat final : public contact::PointElement {
  public:
-  ValveSeat(contact::Parameters axial, Ring ring) : law_(axial), ring_(ring) {}
+  // law_: the axial law along z_j (the element's force, Jacobian, energy and event: contact::PointElement).
+  ValveSeat(contact::Parameters axial, Ring ring) : PointElement(axial), ring_(ring) {}
   std::string type() const override { return "valve-seat"; }
-  int marker_count() const override { return 2; }
-  contact::State state(const ElementInput& in) const { return law_.state(in.markers[0], in.markers[1]); }
-
-  void evaluate(const ElementInput& in, ElementOutput& out) const override {
-    const contact::State s = state(in);
-    if (s.delta <= 0) return;
-    apply_at_i(in, out, law_.force(s), Vec3::Zero(), in.markers[0].position);
-  }
-
-  // dF_a z_j by the law (contact_law.cpp, columns i then j); the reaction on j by jacobian_at_i.
-  bool jacobian(const ElementInput& in, ElementJacobian& jac) const override {
-    contact::PointJacobian df;
-    if (!law_.jacobian(in.markers[0], in.markers[1], df)) return true;  // open, or the clamp: no force
-    ElementRows dforce = zero_rows(jac);
-    dforce.leftCols<24>() = df;
-    jacobian_at_i(in, jac, dforce, zero_rows(jac), law_.force(state(in)));
-    return true;
-  }
 
   std::vector<Channel> channels() const override {
     return {{"gap", "m"},        {"normal_force", "N"},   {"axial_force", "N"}, {"hertz_pressure", "Pa"},
@@ -111,12 +94,8 @@ class ValveSeat final : public ForceElement {
     out[4] = hertz::half_width(normal, ring_.length, ring_.radius, ring_.e_star);
     out[5] = s.delta_rate;
   }
-  ElementEnergy energy(const ElementInput& in) const override { return law_.energy(state(in)); }
-  int gap_count() const override { return 1; }
-  void gaps(const ElementInput& in, std::span<double> out) const override { out[0] = -state(in).delta; }
 
  private:
-  contact::Law law_;  // the axial law along z_j
   Ring ring_;
 };
 
