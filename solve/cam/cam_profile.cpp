@@ -23,16 +23,13 @@
 #include "solve/cam/profiles.hpp"
 
 namespace nvh::solve::cam {
-namespace {
 
-std::string number(double x, int precision = 6) {
+std::string format_number(double x, int precision) {
   std::ostringstream out;
   out.precision(precision);
   out << x;
   return out.str();
 }
-
-}  // namespace
 
 PitchPoint pitch_point(const CamProfile& profile, double psi) {
   const Lift l = profile.lift(-psi);
@@ -73,9 +70,9 @@ void check_roller_fits(const CamProfile& profile, const std::string& what, int s
   if (worst > rr) return;
   const double theta_deg = wrap_2pi(-worst_psi) * 180.0 / std::numbers::pi;
   throw Error(
-      what + ": the roller does not fit the cam at cam angle " + number(theta_deg, 5) +
-      " deg: the pitch curve's radius of curvature there is " + number(worst * 1e3) +
-      " mm, not larger than the roller's radius " + number(rr * 1e3) +
+      what + ": the roller does not fit the cam at cam angle " + format_number(theta_deg, 5) +
+      " deg: the pitch curve's radius of curvature there is " + format_number(worst * 1e3) +
+      " mm, not larger than the roller's radius " + format_number(rr * 1e3) +
       " mm (the cam surface would undercut; use a smaller roller, a larger base circle or a gentler lift)");
 }
 

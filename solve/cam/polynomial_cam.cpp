@@ -28,7 +28,6 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
-#include <sstream>
 
 #include "common/error.hpp"
 #include "solve/cam/profiles.hpp"
@@ -39,12 +38,6 @@ namespace {
 constexpr double kPi = std::numbers::pi;
 constexpr double kDeg = kPi / 180.0;
 
-std::string number(double x, int precision = 6) {
-  std::ostringstream out;
-  out.precision(precision);
-  out << x;
-  return out.str();
-}
 
 /// The quintic of the header comment over [v0, v0 + w].
 class Quintic {
@@ -129,17 +122,17 @@ std::unique_ptr<CamProfile> polynomial_cam(const PolynomialEvent& given) {
     throw Error("polynomial cam: lift, rise and ramp angles and the radii must be > 0, ramp_height >= 0");
   if (2 * (e.ramp_angle + e.rise_angle) > 2 * kPi)
     throw Error("polynomial cam: the event, 2 (ramp_deg + rise_deg) = " +
-                number(2 * (e.ramp_angle + e.rise_angle) / kDeg) + " deg, does not fit in 360 deg");
+                format_number(2 * (e.ramp_angle + e.rise_angle) / kDeg) + " deg, does not fit in 360 deg");
   if (!(e.ramp_height < e.lift))
-    throw Error("polynomial cam: the ramp height (" + number(e.ramp_height * 1e3) +
-                " mm) must be smaller than the lift (" + number(e.lift * 1e3) + " mm)");
+    throw Error("polynomial cam: the ramp height (" + format_number(e.ramp_height * 1e3) +
+                " mm) must be smaller than the lift (" + format_number(e.lift * 1e3) + " mm)");
   if (e.ramp_velocity < 0) e.ramp_velocity = 2 * e.ramp_height / e.ramp_angle;
   auto cam = std::make_unique<PolynomialCam>(e);
   const auto [velocity, v] = cam->min_opening_velocity();
   if (velocity < -1e-12 * e.lift / (e.ramp_angle + e.rise_angle))
-    throw Error("polynomial cam: with the ramp velocity " + number(e.ramp_velocity) +
-                " m/rad the lift falls on the opening side (velocity " + number(velocity) + " m/rad at " +
-                number(v / kDeg) + " deg after the ramp's start): choose a ramp velocity nearer the " +
+    throw Error("polynomial cam: with the ramp velocity " + format_number(e.ramp_velocity) +
+                " m/rad the lift falls on the opening side (velocity " + format_number(velocity) + " m/rad at " +
+                format_number(v / kDeg) + " deg after the ramp's start): choose a ramp velocity nearer the " +
                 "ramp's and the rise's mean slopes (default 2 ramp_height / ramp_deg)");
   return cam;
 }
@@ -156,11 +149,11 @@ std::unique_ptr<CamProfile> read_polynomial_cam(const input::Table& t) {
   e.nose_angle = t.number_or("nose_angle_deg", 0.0, kNoseAngle) * kDeg;
   if (2 * (e.ramp_angle + e.rise_angle) > 2 * kPi)
     t.fail("rise_deg",
-           "the event, 2 (ramp_deg + rise_deg) = " + number(2 * (e.ramp_angle + e.rise_angle) / kDeg) +
+           "the event, 2 (ramp_deg + rise_deg) = " + format_number(2 * (e.ramp_angle + e.rise_angle) / kDeg) +
                " deg, does not fit in 360 deg");
   if (!(e.ramp_height < e.lift))
-    t.fail("ramp_height", "expected a ramp height (" + number(e.ramp_height * 1e3) +
-                              " mm) smaller than the lift (" + number(e.lift * 1e3) + " mm)");
+    t.fail("ramp_height", "expected a ramp height (" + format_number(e.ramp_height * 1e3) +
+                              " mm) smaller than the lift (" + format_number(e.lift * 1e3) + " mm)");
   try {
     return polynomial_cam(e);
   } catch (const Error& err) {

@@ -15,6 +15,8 @@
 
 namespace nvh::solve::cam {
 
+/// `x` with `precision` significant digits, for error messages (cam_profile.cpp).
+std::string format_number(double x, int precision = 6);
 /// The angle in (-pi, pi] equal to `a` modulo 2 pi.
 double wrap_pi(double a);
 /// The angle in [0, 2 pi) equal to `a` modulo 2 pi.

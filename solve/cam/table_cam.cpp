@@ -28,7 +28,6 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
-#include <sstream>
 
 #include "common/error.hpp"
 #include "solve/cam/profiles.hpp"
@@ -41,14 +40,8 @@ constexpr double kPi = std::numbers::pi;
 constexpr double kTwoPi = 2 * kPi;
 constexpr double kDeg = kPi / 180.0;
 
-std::string number(double x, int precision = 6) {
-  std::ostringstream out;
-  out.precision(precision);
-  out << x;
-  return out.str();
-}
 std::string deg(double rad) {
-  return number(rad / kDeg, 8) + " deg";
+  return format_number(rad / kDeg, 8) + " deg";
 }
 
 /// A periodic cubic spline through (x_i, y_i), period T > x_{n-1} - x_0, n >= 3.
@@ -210,10 +203,10 @@ void check_smooth(const PeriodicSpline& all, const std::vector<double>& angles,
   if (worst_q < 0) return;
   const Quantity& w = q[worst_q];
   throw Error(where + ": not smooth enough at cam angle " + deg(worst_x) + ": " + w.name +
-              " of the spline through all points " + number(worst_all) + " " + w.unit +
-              ", through every other point " + number(worst_half) + " " + w.unit + ", a difference of " +
-              number(std::abs(worst_all - worst_half)) + " " + w.unit + ", more than " +
-              number(100 * w.limit_fraction) + " % of the largest |" + w.name + "| (" + number(w.largest) +
+              " of the spline through all points " + format_number(worst_all) + " " + w.unit +
+              ", through every other point " + format_number(worst_half) + " " + w.unit + ", a difference of " +
+              format_number(std::abs(worst_all - worst_half)) + " " + w.unit + ", more than " +
+              format_number(100 * w.limit_fraction) + " % of the largest |" + w.name + "| (" + format_number(w.largest) +
               " " + w.unit + "): the table has a step or a kink there, or is too coarse for its " + w.name);
 }
 
@@ -261,8 +254,8 @@ std::unique_ptr<CamProfile> table_cam(std::vector<double> angles, std::vector<do
       for (const double s : lifts) largest = std::max(largest, std::abs(s));
       if (std::abs(lifts.back() - lifts.front()) > 1e-9 * largest)
         throw Error(where + ": the last row, at cam angle " + deg(angles.back()) +
-                    " (one turn after the first), must repeat the first row's lift " + number(lifts.front()) +
-                    " m, not " + number(lifts.back()) + " m (a step at the wrap)");
+                    " (one turn after the first), must repeat the first row's lift " + format_number(lifts.front()) +
+                    " m, not " + format_number(lifts.back()) + " m (a step at the wrap)");
       angles.pop_back();
       lifts.pop_back();
     } else if (span > kTwoPi) {
@@ -277,10 +270,10 @@ std::unique_ptr<CamProfile> table_cam(std::vector<double> angles, std::vector<do
                 std::to_string(angles.size()));
   for (std::size_t i = 0; i < lifts.size(); ++i) {
     if (lifts[i] < 0)
-      throw Error(where + ": negative lift " + number(lifts[i]) + " m at cam angle " + deg(angles[i]) +
+      throw Error(where + ": negative lift " + format_number(lifts[i]) + " m at cam angle " + deg(angles[i]) +
                   " (the lift is measured from the base circle: >= 0)");
     if (lifts[i] > 10.0)
-      throw Error(where + ": lift " + number(lifts[i]) + " m at cam angle " + deg(angles[i]) +
+      throw Error(where + ": lift " + format_number(lifts[i]) + " m at cam angle " + deg(angles[i]) +
                   " larger than 10 m (is lift_scale right?)");
   }
   if (!(base_radius > 0 && roller_radius > 0)) throw Error(where + ": the radii must be > 0");
