@@ -199,6 +199,21 @@ void write_superelement(const std::filesystem::path& path, const SuperelementFil
   reduced.set_attribute("units", "generalized, as stiffness times s", "damping");
   reduced.set_attribute("damping_ratio", se.damping_ratio, "damping");
   reduced.set_attribute("description", "what each coordinate q_j is", "coordinates");
+  if (!se.geometric_stiffness.empty()) {
+    h5::Group g = reduced.create_group("geometric_stiffness");
+    for (std::size_t p = 0; p < kSpinProducts.size(); ++p) {
+      g.write(kSpinProductNames[p], se.geometric_stiffness[p]);
+      g.set_attribute("units", "generalized stiffness per (rad/s)^2", kSpinProductNames[p]);
+    }
+    g.set_attribute(
+        "description",
+        "centrifugal geometric stiffness K_ab per product omega_a omega_b of the spin's components "
+        "(component axes, about the origin): K(omega) = stiffness + sum (omega_a omega_b - "
+        "reference_spin_a reference_spin_b) K_ab; reference_spin (rad/s, component axes): the "
+        "spin at which stiffness was reduced");
+    g.set_attribute("reference_spin",
+                    std::vector<double>{se.reference_spin(0), se.reference_spin(1), se.reference_spin(2)});
+  }
 
   h5::Group interface = root.create_group("interface");
   write_points(interface, se.interfaces, n, "interface");
@@ -306,6 +321,19 @@ SuperelementFile read_superelement(const std::filesystem::path& path) {
   se.damping = reduced.read_matrix("damping", hn, hn);
   se.damping_ratio = reduced.double_attribute("damping_ratio", "damping");
   se.coordinates = reduced.read_strings("coordinates");
+  if (reduced.exists("geometric_stiffness")) {
+    const h5::Group g = reduced.open_group("geometric_stiffness");
+    for (const char* name : kSpinProductNames) {
+      se.geometric_stiffness.push_back(g.read_matrix(name, hn, hn));
+      require_finite(se.geometric_stiffness.back(), where + ":/reduced/geometric_stiffness/" + name);
+    }
+    const std::vector<double> w = g.doubles_attribute("reference_spin");
+    if (w.size() != 3) {
+      throw Error(where +
+                  ":/reduced/geometric_stiffness: attribute reference_spin: expected 3 values (rad/s)");
+    }
+    se.reference_spin = Eigen::Vector3d(w[0], w[1], w[2]);
+  }
   se.interfaces = read_points(root.open_group("interface"), n, where);
   se.observers = read_points(root.open_group("observe"), n, where);
   if (root.exists("observe/normal")) {

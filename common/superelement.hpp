@@ -24,7 +24,13 @@
 namespace nvh {
 
 inline constexpr const char* kSuperelementFormat = "superelement";
-inline constexpr const char* kSuperelementFormatVersion = "1.0";
+inline constexpr const char* kSuperelementFormatVersion = "1.1";  // 1.1: /reduced/geometric_stiffness
+
+/// The products omega_a omega_b of the spin's components that the geometric stiffness matrices multiply,
+/// in the file's order and with its names (/reduced/geometric_stiffness/xx, ...).
+inline constexpr std::array<std::array<int, 2>, 6> kSpinProducts = {
+    {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {1, 2}, {2, 0}}};
+inline constexpr std::array<const char*, 6> kSpinProductNames = {"xx", "yy", "zz", "xy", "yz", "zx"};
 
 /// Points of the component (interfaces or observation points) and their motion per coordinate
 /// (/interface and /observe).
@@ -61,6 +67,14 @@ struct SuperelementFile {
   Eigen::VectorXd fixed_interface_hz;        ///< /modes/fixed_interface_hz (Craig-Bampton), Hz; else empty
   std::vector<std::string> coordinates;      ///< /reduced/coordinates: what each q_j is
   Eigen::MatrixXd mass, stiffness, damping;  ///< /reduced/*, n x n, generalized units
+
+  /// /reduced/geometric_stiffness/<xx..zx>: empty, or the six n x n matrices K_ab of the centrifugal
+  /// prestress, so that K(omega) = stiffness + sum_p (omega_a omega_b - w_ref,a w_ref,b) K_p for a body
+  /// spinning at omega (rad/s, component axes); generalized stiffness per (rad/s)^2.
+  std::vector<Eigen::MatrixXd> geometric_stiffness;
+  /// The spin (rad/s, component axes) at which `stiffness` was reduced (attribute reference_spin); zero:
+  /// at rest.
+  Eigen::Vector3d reference_spin = Eigen::Vector3d::Zero();
 
   PointSet interfaces;                   ///< /interface/*
   PointSet observers;                    ///< /observe/*

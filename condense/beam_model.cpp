@@ -160,6 +160,7 @@ FeModel build_beam_model(const Component& c) {
       }
       scatter(T.transpose() * local_stiffness(data) * T, dofs, kt);
       scatter(me, dofs, mt);
+      model.beam_elements.push_back({n1, n2, axes, data});
       ++model.element_count;
     }
   }

@@ -103,6 +103,12 @@ struct ReductionSettings {
   /// Modal only: add the inertia-relief residual (attachment) modes of the interface DOF, so a static
   /// load at the interfaces is represented exactly (reduction.cpp, residual_attachment_modes).
   bool residual_modes = false;
+  /// Write the centrifugal geometric stiffness per product of the spin's components
+  /// (geometric_stiffness.hpp), so that solve stiffens the body at its own spin.
+  bool geometric_stiffening = false;
+  /// Reduce at this spin (rad/s, component axes, about the component origin): the modes of
+  /// K + K_G(spin). Zero: at rest. Implies geometric_stiffening.
+  Vec3 spin{};
   double damping_ratio = 0.0;                ///< modal damping ratio zeta of the retained modes
   SourceLocation where;                      ///< of fmax or modes (or of the table), for messages
   std::string where_key = "reduction.fmax";  ///< the key (or command-line option) that set the count

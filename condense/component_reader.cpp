@@ -231,6 +231,21 @@ ReductionSettings read_reduction(const Table& t) {
   r.modes = static_cast<int>(modes.value_or(0));
   r.orthonormalize = t.optional_boolean("orthonormalize").value_or(true);
   r.residual_modes = t.optional_boolean("residual_modes").value_or(false);
+  const auto rpm = t.optional_number("spin_speed_rpm", Range{0.0, 1e6, false, false});  // rev/min
+  const auto axis = t.optional_vec3("spin_axis", Range::magnitude(1e6));
+  if (axis && !rpm) t.fail("spin_axis", "spin_axis needs spin_speed_rpm (the speed to reduce at)");
+  if (rpm && !axis)
+    t.fail("spin_speed_rpm", "spin_speed_rpm needs spin_axis, e.g. [1, 0, 0] (component axes)");
+  r.geometric_stiffening = t.optional_boolean("geometric_stiffening").value_or(rpm.has_value());
+  if (rpm) {
+    const double norm =
+        std::sqrt((*axis)[0] * (*axis)[0] + (*axis)[1] * (*axis)[1] + (*axis)[2] * (*axis)[2]);
+    if (norm == 0.0) t.fail("spin_axis", "expected a direction, not [0, 0, 0]");
+    if (!r.geometric_stiffening)
+      t.fail("geometric_stiffening",
+             "spin_speed_rpm reduces at a speed, which needs geometric_stiffening = true");
+    for (int k = 0; k < 3; ++k) r.spin[k] = (*axis)[k] / norm * *rpm * 3.141592653589793 / 30.0;
+  }
   r.damping_ratio = t.number_or("damping_ratio", 0.0, Range{0.0, 1.0, false, true});
   t.finish();
   return r;

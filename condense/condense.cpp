@@ -8,6 +8,7 @@
 
 #include "condense/abaqus_mesh.hpp"
 #include "condense/beam_model.hpp"
+#include "condense/geometric_stiffness.hpp"
 #include "condense/reduction.hpp"
 #include "condense/volume_model.hpp"
 
@@ -109,6 +110,11 @@ void check_reduction(const Component& component) {
                     " keeps the interface DOF, whose constraint modes already carry static loads there)",
                 r.where, "reduction.residual_modes");
   }
+  if (r.geometric_stiffening && component.kind != "beam") {
+    throw Error("geometric_stiffening works with beam components only (the prestress stiffness of " +
+                    component.kind + " elements is not implemented yet)",
+                r.where, "reduction.geometric_stiffening");
+  }
 }
 
 int count_rigid_body_modes(const FeModel& model) {
@@ -178,6 +184,15 @@ Superelement condense_component(const Component& c, EigenBackend backend, const 
   } else {
     observer_nodes = locate(model, c.observers, c.point_tolerance, "observation");
   }
+  const int rigid_body_modes = count_rigid_body_modes(model);
+  // The centrifugal geometric stiffness per product of the spin (geometric_stiffness.hpp), before the
+  // nodal stiffness is released.
+  std::array<SparseMatrix, 6> spin_stiffness;
+  const Eigen::Vector3d spin(c.reduction.spin[0], c.reduction.spin[1], c.reduction.spin[2]);
+  if (c.reduction.geometric_stiffening) {
+    spin_stiffness = centrifugal_geometric_stiffness(model, rigid_body_modes, run.ordering);
+    if (timer) timer->lap("prestress");
+  }
   // The free-DOF matrices; what the reduction does not need is freed before it runs (its factorization
   // sets the peak memory): the nodal stiffness, and the mesh unless it is exported. A modal reduction
   // reads one triangle only and hands both matrices over to the eigen-solve (see ReductionInput).
@@ -187,6 +202,16 @@ Superelement condense_component(const Component& c, EigenBackend backend, const 
   in.lower_triangles = stored == FeModel::Triangles::kLower;
   {
     SparseMatrix K = model.stiffness(stored);
+    if (spin.norm() > 0.0) {
+      // Reduced at speed: the modes of K + K_G(spin).
+      const std::array<double, 6> w = spin_products(spin);
+      SparseMatrix kg = w[0] * spin_stiffness[0];
+      for (int p = 1; p < 6; ++p) kg += w[p] * spin_stiffness[p];
+      if (stored == FeModel::Triangles::kLower) kg = SparseMatrix(kg.triangularView<Eigen::Lower>());
+      K += kg;
+      log.info("reduce at spin " + std::to_string(spin.norm() * 30.0 / 3.141592653589793) +
+               " rpm: stiffness K + K_G(omega)");
+    }
     in.stiffness.swap(K);  // Eigen 3.4's SparseMatrix has no move assignment: swap, not copy
   }
   release(model.stiffness_all);
@@ -203,7 +228,7 @@ Superelement condense_component(const Component& c, EigenBackend backend, const 
   in.backend = backend;
   in.progress = run.progress;
   in.ordering = run.ordering;
-  in.rigid_body_modes = count_rigid_body_modes(model);
+  in.rigid_body_modes = rigid_body_modes;
   collect_boundary(model, c.interfaces, interface_nodes, in.boundary_dofs, in.boundary_names);
 
   log.info("reduce: " + to_string(c.reduction.method) + " on " + std::to_string(model.free_dofs()) +
@@ -230,6 +255,13 @@ Superelement condense_component(const Component& c, EigenBackend backend, const 
   se.mass = r.mass;
   se.stiffness = r.stiffness;
   se.damping = r.damping;
+  if (c.reduction.geometric_stiffening) {
+    se.reference_spin = spin;
+    for (int p = 0; p < 6; ++p) {
+      Eigen::MatrixXd kr = r.basis.transpose() * (spin_stiffness[p] * r.basis);
+      se.geometric_stiffness.push_back(0.5 * (kr + kr.transpose()));
+    }
+  }
   se.interfaces = point_set(model, c.interfaces, interface_nodes, shapes);
   se.observers = point_set(model, c.observers, observer_nodes, shapes);
   se.observers.normals = observer_normals;

@@ -15,6 +15,7 @@
 
 #include "condense/component.hpp"
 #include "condense/surface.hpp"
+#include "condense/timoshenko_beam.hpp"
 
 namespace nvh::condense {
 
@@ -24,6 +25,13 @@ using SparseMatrix = Eigen::SparseMatrix<double>;
 struct LinearConstraint {
   int dof = 0;
   std::vector<std::pair<int, double>> terms;  ///< (nodal DOF, coefficient)
+};
+
+/// A beam element as the geometric stiffness needs it: its nodes, local axes (rows) and section data.
+struct BeamElementRecord {
+  int node1 = 0, node2 = 0;
+  Eigen::Matrix3d axes;
+  BeamElementData data;
 };
 
 struct FeModel {
@@ -45,6 +53,9 @@ struct FeModel {
   /// Volumes: the consistent scalar mass m_ij = int rho N_i N_j dV (N x N, both triangles stored, kg;
   /// zero rows for coupling nodes); M_all(6i+a, 6j+a) = m_ij for a = x, y, z. Beams: empty.
   SparseMatrix scalar_mass;
+
+  /// Beams: every element, for the geometric stiffness (geometric_stiffness.hpp); volumes: empty.
+  std::vector<BeamElementRecord> beam_elements;
 
   SparseMatrix transform;           ///< T: 6N x n_free
   std::vector<bool> supported_dof;  ///< per nodal DOF: held by a support

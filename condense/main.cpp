@@ -36,6 +36,10 @@ factorization) and reduces it:
                  of interest (more with many interfaces) keeps the reduced frequencies within about
                  0.1 % (measured cases in docs/component-format.md section 5)
   guyan          interface DOF + constraint modes only (static condensation)
+Options of [reduction]: residual_modes = true (modal: static correction modes of the interface DOF);
+geometric_stiffening = true (beams: the centrifugal stress stiffness per product of the spin's
+components, which solve scales with each flexible body's own spin; spin_speed_rpm and spin_axis reduce
+at a speed; docs/component-format.md section 5.2).
 It writes OUT.h5: reduced mass, stiffness and damping, eigenfrequencies, interface and observation
 shapes, mass properties and the floating-frame inertia invariants, with provenance. The layout is
 documented in docs/hdf5-format.md, the input in docs/component-format.md.

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "common/error.hpp"
+#include "condense/static_solve.hpp"
 
 namespace nvh::condense {
 namespace {
@@ -19,22 +20,6 @@ std::string hz(double f) {
   s.precision(5);
   s << f << " Hz";
   return s.str();
-}
-
-/// Rows/columns `rows` x `cols` of a sparse matrix (index lists in ascending order).
-SparseMatrix submatrix(const SparseMatrix& a, const std::vector<int>& rows, const std::vector<int>& cols) {
-  std::vector<int> row_map(a.rows(), -1), col_map(a.cols(), -1);
-  for (std::size_t i = 0; i < rows.size(); ++i) row_map[rows[i]] = static_cast<int>(i);
-  for (std::size_t j = 0; j < cols.size(); ++j) col_map[cols[j]] = static_cast<int>(j);
-  std::vector<Eigen::Triplet<double>> t;
-  for (int k = 0; k < a.outerSize(); ++k) {
-    if (col_map[k] < 0) continue;
-    for (SparseMatrix::InnerIterator it(a, k); it; ++it)
-      if (row_map[it.row()] >= 0) t.emplace_back(row_map[it.row()], col_map[k], it.value());
-  }
-  SparseMatrix s(static_cast<Eigen::Index>(rows.size()), static_cast<Eigen::Index>(cols.size()));
-  s.setFromTriplets(t.begin(), t.end());
-  return s;
 }
 
 /// The request for the lowest modes: `modes` elastic ones (plus the rigid ones), or up to fmax.
@@ -58,12 +43,6 @@ Eigen::MatrixXd modal_damping(const Eigen::MatrixXd& mass, const Eigen::MatrixXd
                               const Eigen::VectorXd& omega, double zeta) {
   const Eigen::MatrixXd mx = mass * elastic_vectors;
   return mx * (2.0 * zeta * omega).asDiagonal() * mx.transpose();
-}
-
-/// A x for a symmetric sparse A stored whole or as its lower triangle.
-Eigen::MatrixXd symmetric_times(const SparseMatrix& a, bool lower, const Eigen::MatrixXd& x) {
-  if (lower) return a.selfadjointView<Eigen::Lower>() * x;
-  return a * x;
 }
 
 struct ResidualModes {
@@ -101,35 +80,9 @@ ResidualModes residual_attachment_modes(const SparseMatrix& K, const SparseMatri
   const int rigid = static_cast<int>(phi_r.cols());
   Eigen::MatrixXd f = Eigen::MatrixXd::Zero(n, nb);
   for (int j = 0; j < nb; ++j) f(load_dofs[j], j) = 1.0;
-
-  // (1) P F = F - M Phi_r (Phi_r^T F).
-  const Eigen::MatrixXd m_phi_r = symmetric_times(M, lower, phi_r);
-  const Eigen::MatrixXd pf = f - m_phi_r * (phi_r.transpose() * f);
-
-  // (2) A statically determinate set of `rigid` DOF: the pivots of a column-pivoted QR of Phi_r^T, on
-  // which Phi_r is nonsingular; held, they leave K_c positive definite (its kernel is rigid motion).
-  std::vector<bool> held(n, false);
-  if (rigid > 0) {
-    Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(phi_r.transpose());
-    for (int k = 0; k < rigid; ++k) held[qr.colsPermutation().indices()(k)] = true;
-  }
-  std::vector<int> keep;
-  keep.reserve(n);
-  for (int d = 0; d < n; ++d)
-    if (!held[d]) keep.push_back(d);
-  SparseCholesky chol(ordering);
-  if (!chol.factorize(submatrix(K, keep, keep))) {
-    throw Error(
-        "residual modes: the stiffness with the rigid-body motion held is not positive definite (a "
-        "mechanism, or more rigid-body modes than counted)");
-  }
-  Eigen::MatrixXd rhs(static_cast<Eigen::Index>(keep.size()), nb);
-  for (std::size_t i = 0; i < keep.size(); ++i) rhs.row(static_cast<Eigen::Index>(i)) = pf.row(keep[i]);
-  const Eigen::MatrixXd uc = chol.solve(rhs);
-  Eigen::MatrixXd psi = Eigen::MatrixXd::Zero(n, nb);
-  for (std::size_t i = 0; i < keep.size(); ++i) psi.row(keep[i]) = uc.row(static_cast<Eigen::Index>(i));
-  // P^T u = u - Phi_r (Phi_r^T M u): the attachment modes G_e F, M-orthogonal to the rigid-body modes.
-  psi -= phi_r * (m_phi_r.transpose() * psi);
+  // (1)-(2): the attachment modes G_e F (static_solve.hpp), M-orthogonal to the rigid-body modes.
+  ResidualModes out;
+  Eigen::MatrixXd psi = inertia_relief_solve(K, M, lower, f, phi_r, ordering, &out.factor);
 
   // Unit M-norm columns, so the dependence test below does not depend on force vs moment units.
   for (int j = 0; j < nb; ++j) {
@@ -144,8 +97,6 @@ ResidualModes residual_attachment_modes(const SparseMatrix& K, const SparseMatri
   for (int pass = 0; pass < 2; ++pass) psi -= basis * (m_basis.transpose() * psi);
 
   // (4) M-orthonormalize (dropping dependent directions), then diagonalize the stiffness.
-  ResidualModes out;
-  out.factor = chol.stats();
   Eigen::MatrixXd gram = psi.transpose() * symmetric_times(M, lower, psi);
   gram = 0.5 * (gram + gram.transpose()).eval();
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> g(gram);

@@ -48,6 +48,16 @@ BendingShape bending_shape(double xi, double L, double phi) {
   return s;
 }
 
+/// d/dx of the deflection interpolation above (the slope of the centre line), for the geometric stiffness.
+Eigen::RowVector4d deflection_slope(double xi, double L, double phi) {
+  const double c = 1.0 / (1.0 + phi);
+  const double x2 = xi * xi;
+  Eigen::RowVector4d d;
+  d << c * (6.0 * x2 - 6.0 * xi - phi) / L, c * (3.0 * x2 - (4.0 + phi) * xi + 1.0 + 0.5 * phi),
+      c * (-6.0 * x2 + 6.0 * xi + phi) / L, c * (3.0 * x2 - (2.0 - phi) * xi - 0.5 * phi);
+  return d;
+}
+
 /// The centre-line fields at xi as rows over the 12 local DOF.
 struct CentreLine {
   Row12 u, v, w, rx, ry, rz;
@@ -154,6 +164,33 @@ BeamMassIntegrals mass_integrals(const BeamElementData& e, const Eigen::Vector3d
   out.component[2][0] = out.component[0][2].transpose();
   out.component[2][1] = out.component[1][2].transpose();
   return out;
+}
+
+double axial_force(const BeamElementData& e, const Vector12& u_local) {
+  return e.E * e.A * (u_local(kU[1]) - u_local(kU[0])) / e.L;
+}
+
+Matrix12 local_geometric_stiffness(const BeamElementData& e, double N) {
+  // K_G = N int_0^L (v'^T v' + w'^T w' + (Ip / A) rx'^T rx') dx, v' and w' the slopes of the element's own
+  // deflection interpolation (exact by the 4-point rule: degree 4). rx is linear: rx' = (rx2 - rx1) / L.
+  Matrix12 k = Matrix12::Zero();
+  for (int g = 0; g < 4; ++g) {
+    const double w = kGaussWeight[g] * e.L * N;
+    const Eigen::RowVector4d sxy = deflection_slope(kGaussPoint[g], e.L, e.phi_z());
+    const Eigen::RowVector4d sxz = deflection_slope(kGaussPoint[g], e.L, e.phi_y());
+    Row12 dv = Row12::Zero(), dw = Row12::Zero();
+    for (int i = 0; i < 4; ++i) {
+      dv(kPlaneXY[i]) = sxy(i);
+      dw(kPlaneXZ[i]) = kSignXZ[i] * sxz(i);
+    }
+    k += w * (dv.transpose() * dv + dw.transpose() * dw);
+  }
+  const double torsion = N * (e.Iy + e.Iz) / (e.A * e.L);
+  k(kRx[0], kRx[0]) += torsion;
+  k(kRx[1], kRx[1]) += torsion;
+  k(kRx[0], kRx[1]) -= torsion;
+  k(kRx[1], kRx[0]) -= torsion;
+  return k;
 }
 
 Matrix12 local_mass(const BeamElementData& e) {

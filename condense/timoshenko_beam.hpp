@@ -37,6 +37,14 @@ struct BeamElementData {
 
 /// Local stiffness matrix.
 Matrix12 local_stiffness(const BeamElementData& e);
+/// Axial force N (N, tension positive) of the element under local nodal displacements u_local: E A (u2 - u1) / L.
+double axial_force(const BeamElementData& e, const Vector12& u_local);
+/// Local geometric (stress) stiffness under the axial force N (N, tension positive):
+///   K_G = N int_0^L (v'^T v' + w'^T w' + (Iy + Iz) / A rx'^T rx') dx
+/// with the slopes of the element's own deflection interpolation (for Phi = 0 the classical
+/// N / (30 L) [36, 3L, -36, 3L; 3L, 4L^2, -3L, -L^2; ...] of Przemieniecki 1968, ch. 15), and the
+/// torsional (Wagner) term of a section whose shear centre is its centroid.
+Matrix12 local_geometric_stiffness(const BeamElementData& e, double N);
 /// Local consistent mass matrix (translational + rotary + torsional inertia).
 Matrix12 local_mass(const BeamElementData& e);
 

@@ -167,7 +167,7 @@ TEST_F(SuperelementFileTest, RoundTripKeepsEveryField) {
   const h5::File f = h5::File::open_read(file);
   const h5::Group& root = f.root();
   EXPECT_EQ(root.string_attribute("format"), "superelement");
-  EXPECT_EQ(root.string_attribute("format_version"), "1.0");
+  EXPECT_EQ(root.string_attribute("format_version"), kSuperelementFormatVersion);
   EXPECT_EQ(root.string_attribute("units"), "SI");
   EXPECT_EQ(root.int_attribute("coordinates"), kN);
   EXPECT_EQ(root.string_attribute("tool"), "test");

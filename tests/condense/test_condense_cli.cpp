@@ -117,7 +117,7 @@ TEST_F(CondenseCli, GoodInputWritesTheDocumentedLayout) {
   nvh::h5::File file = nvh::h5::File::open_read(output());
   const nvh::h5::Group& root = file.root();
   EXPECT_EQ(root.string_attribute("format"), "superelement");
-  EXPECT_EQ(root.string_attribute("format_version"), "1.0");
+  EXPECT_EQ(root.string_attribute("format_version"), nvh::kSuperelementFormatVersion);
   EXPECT_EQ(root.string_attribute("units"), "SI");
   EXPECT_EQ(root.string_attribute("tool"), "condense");
   EXPECT_EQ(root.string_attribute("input_sha256").size(), 64u);

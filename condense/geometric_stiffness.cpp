@@ -1,0 +1,115 @@
+#include "condense/geometric_stiffness.hpp"
+
+#include <Eigen/Cholesky>
+#include <Eigen/SVD>
+
+#include "common/error.hpp"
+#include "condense/static_solve.hpp"
+
+namespace nvh::condense {
+namespace {
+
+/// The centrifugal loads b_ab on all nodal DOF (6N x 6), from the beams' position moments:
+/// int rho N_A^T x_k dV is column 3k+A of position_moment_all, and (b_ab)_A = rho sum_k B_Ak x_k with
+/// B = 1 - e_a e_a^T (a = b) or -(e_a e_b^T + e_b e_a^T) (a < b).
+Eigen::MatrixXd centrifugal_loads(const FeModel& model) {
+  Eigen::MatrixXd f = Eigen::MatrixXd::Zero(model.all_dofs(), 6);
+  for (int p = 0; p < 6; ++p) {
+    const int a = kSpinProducts[p][0], b = kSpinProducts[p][1];
+    Eigen::Matrix3d B;
+    if (a == b) {
+      B = Eigen::Matrix3d::Identity();
+      B(a, a) = 0.0;
+    } else {
+      B.setZero();
+      B(a, b) = B(b, a) = -1.0;
+    }
+    for (int A = 0; A < 3; ++A)
+      for (int k = 0; k < 3; ++k)
+        if (B(A, k) != 0.0) f.col(p) += B(A, k) * model.position_moment_all.col(3 * k + A);
+  }
+  return f;
+}
+
+/// The model's rigid-body modes on the free DOF, M-orthonormal (free x r): the rigid fields that the
+/// supports leave free, restricted to the master DOF (a slave follows its master rigidly).
+Eigen::MatrixXd free_rigid_body_modes(const FeModel& model, const SparseMatrix& M, int rigid) {
+  const int n = model.free_dofs();
+  if (rigid == 0) return Eigen::MatrixXd(n, 0);
+  const Eigen::MatrixXd field = model.rigid_body_field();
+  // Combinations of the 6 rigid fields that no support holds: the null space of the held rows.
+  std::vector<int> held;
+  for (int d = 0; d < model.all_dofs(); ++d)
+    if (model.supported_dof[d]) held.push_back(d);
+  Eigen::MatrixXd free_combinations = Eigen::MatrixXd::Identity(6, 6);
+  if (!held.empty()) {
+    Eigen::MatrixXd rows(held.size(), 6);
+    for (std::size_t i = 0; i < held.size(); ++i) rows.row(static_cast<Eigen::Index>(i)) = field.row(held[i]);
+    Eigen::JacobiSVD<Eigen::MatrixXd> svd(rows, Eigen::ComputeFullV);
+    free_combinations = svd.matrixV().rightCols(rigid);
+  }
+  // The free DOF are the identity columns of T on master DOF.
+  Eigen::MatrixXd r = Eigen::MatrixXd::Zero(n, 6);
+  for (int col = 0; col < model.transform.outerSize(); ++col) {
+    for (SparseMatrix::InnerIterator it(model.transform, col); it; ++it) {
+      const int node = static_cast<int>(it.row()) / 6;
+      if (model.master_of[node] == node && it.value() == 1.0) r.row(col) = field.row(it.row());
+    }
+  }
+  Eigen::MatrixXd phi = r * free_combinations;
+  const Eigen::MatrixXd gram = phi.transpose() * (M * phi);
+  const Eigen::LLT<Eigen::MatrixXd> llt(0.5 * (gram + gram.transpose()));
+  if (llt.info() != Eigen::Success) throw Error("geometric stiffness: the rigid-body modes have no mass");
+  // phi L^-T: M-orthonormal.
+  return llt.matrixU().solve<Eigen::OnTheRight>(phi);
+}
+
+}  // namespace
+
+std::array<double, 6> spin_products(const Eigen::Vector3d& omega) {
+  std::array<double, 6> c{};
+  for (int p = 0; p < 6; ++p) c[p] = omega(kSpinProducts[p][0]) * omega(kSpinProducts[p][1]);
+  return c;
+}
+
+std::array<SparseMatrix, 6> centrifugal_geometric_stiffness(const FeModel& model, int rigid_body_modes,
+                                                            Ordering ordering) {
+  if (model.beam_elements.empty()) {
+    throw Error("geometric stiffening is implemented for beam components only (" + model.element_kind +
+                " have no prestress stiffness yet)");
+  }
+  const SparseMatrix K = model.stiffness();
+  const SparseMatrix M = model.mass();
+  const Eigen::MatrixXd loads = model.transform.transpose() * centrifugal_loads(model);
+  const Eigen::MatrixXd phi_r = free_rigid_body_modes(model, M, rigid_body_modes);
+  const Eigen::MatrixXd u = model.transform * inertia_relief_solve(K, M, false, loads, phi_r, ordering);
+
+  // Each element's axial force under each load, and its geometric stiffness in global DOF.
+  std::array<std::vector<Eigen::Triplet<double>>, 6> triplets;
+  for (const BeamElementRecord& e : model.beam_elements) {
+    const Matrix12 T = local_from_global(e.axes);
+    std::array<int, 12> dofs;
+    for (int i = 0; i < 6; ++i) {
+      dofs[i] = 6 * e.node1 + i;
+      dofs[6 + i] = 6 * e.node2 + i;
+    }
+    const Matrix12 unit = T.transpose() * local_geometric_stiffness(e.data, 1.0) * T;
+    for (int p = 0; p < 6; ++p) {
+      Vector12 ue;
+      for (int i = 0; i < 12; ++i) ue(i) = u(dofs[i], p);
+      const double N = axial_force(e.data, T * ue);
+      for (int i = 0; i < 12; ++i)
+        for (int j = 0; j < 12; ++j)
+          if (unit(i, j) != 0.0) triplets[p].emplace_back(dofs[i], dofs[j], N * unit(i, j));
+    }
+  }
+  std::array<SparseMatrix, 6> out;
+  for (int p = 0; p < 6; ++p) {
+    SparseMatrix all(model.all_dofs(), model.all_dofs());
+    all.setFromTriplets(triplets[p].begin(), triplets[p].end());
+    out[p] = model.transform.transpose() * all * model.transform;
+  }
+  return out;
+}
+
+}  // namespace nvh::condense
