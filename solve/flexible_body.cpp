@@ -143,6 +143,8 @@ FlexibleData load_flexible_data(const std::filesystem::path& file, int modes) {
     d.quadratic[k] = x.transpose() * se.invariants.quadratic[k] * x;
   }
   d.frequency_hz = hz.head(std::min<int>(n, static_cast<int>(hz.size())));
+  for (const Eigen::MatrixXd& k : se.geometric_stiffness) d.geometric.push_back(x.transpose() * k * x);
+  d.reference_spin = se.reference_spin;
   for (const auto* set : {&se.interfaces, &se.observers})
     for (std::size_t k = 0; k < set->names.size(); ++k) {
       FlexibleData::Point p = read_point(*set, k);
@@ -184,6 +186,17 @@ FlexibleBody::FlexibleBody(std::string name, FlexibleData data, Coupling couplin
   ws_dpsi_.resize(n_, 9);
   ws_3n_.resize(3, n_);
   ws_n_.resize(n_);
+  ws_geo_.resize(n_, 6);
+}
+
+std::array<double, 6> FlexibleBody::spin_coefficients(const Vec3& omega) const {
+  std::array<double, 6> c{};
+  const Vec3& ref = data_.reference_spin;
+  for (int p = 0; p < 6; ++p) {
+    const int a = kSpinProducts[p][0], b = kSpinProducts[p][1];
+    c[p] = omega[a] * omega[b] - ref[a] * ref[b];
+  }
+  return c;
 }
 
 Eigen::VectorXd FlexibleBody::initial_positions() const {
@@ -308,6 +321,11 @@ void FlexibleBody::inertia_residual(std::span<const double> q, std::span<const d
   re.noalias() += data_.modal_mass * acc;
   re.noalias() += data_.stiffness * eta;
   re.noalias() += data_.damping * rate;
+  if (!data_.geometric.empty()) {
+    const std::array<double, 6> c = spin_coefficients(omega);
+    for (int k = 0; k < 6; ++k)
+      if (c[k] != 0.0) re.noalias() += c[k] * (data_.geometric[k] * eta);
+  }
   if (full)
     for (int i = 0; i < 3; ++i)
       for (int k = 0; k < 3; ++k)
@@ -624,6 +642,14 @@ void FlexibleBody::inertia_jacobian(std::span<const double> q, std::span<const d
   d_q.block(6, 3, n_, 4).noalias() = sb.transpose() * yp;
   d_q.block(6, 7, n_, n_) = data_.stiffness;
   d_w.block(6, 6, n_, n_) = data_.damping;
+  if (!data_.geometric.empty()) {
+    // K(omega) eta: d/deta = K_G(omega) - K_G(omega_ref); d/domega_c = sum_p d(omega_a omega_b)/domega_c K_p eta.
+    const std::array<double, 6> c = spin_coefficients(omega);
+    for (int k = 0; k < 6; ++k) {
+      if (c[k] != 0.0) d_q.block(6, 7, n_, n_) += c[k] * data_.geometric[k];
+      ws_geo_.col(k).noalias() = data_.geometric[k] * eta;
+    }
+  }
   if (full) {
     const Mat3 ce = om2 + skew(a_w);
     for (int c = 0; c < 9; ++c) {
@@ -650,6 +676,13 @@ void FlexibleBody::inertia_jacobian(std::span<const double> q, std::span<const d
       }
       d_w.block(6, 3, n_, 3).noalias() += ws_s_rate_ * xs;
     }
+    if (!data_.geometric.empty()) {
+      for (int k = 0; k < 6; ++k) {
+        const int a = kSpinProducts[k][0], b = kSpinProducts[k][1];
+        d_w.block(6, 3 + a, n_, 1) += omega[b] * ws_geo_.col(k);
+        d_w.block(6, 3 + b, n_, 1) += omega[a] * ws_geo_.col(k);
+      }
+    }
   }
 }
 
@@ -671,6 +704,15 @@ std::unique_ptr<Body> make_flexible_body(const input::Table& t, const std::strin
     const std::string what = e.what();
     const bool too_many = modes > 0 && what.find("modes asked for") != std::string::npos;
     t.fail(too_many ? "modes" : "superelement", "cannot use superelement '" + file.string() + "': " + what);
+  }
+  // The centrifugal geometric stiffness: on when the file carries it, unless switched off.
+  if (const auto stiffening = t.optional_boolean("geometric_stiffening")) {
+    if (*stiffening && data.geometric.empty()) {
+      t.fail("geometric_stiffening", "the superelement '" + file.string() +
+                                         "' has no /reduced/geometric_stiffness: condense the component with "
+                                         "[reduction] geometric_stiffening = true");
+    }
+    if (!*stiffening) data.geometric.clear();  // the stiffness stays that of the file's reference spin
   }
   const int n = data.size();
   auto modal = [&](const char* key) {

@@ -8,9 +8,12 @@
 // Equations of motion (A. A. Shabana, Dynamics of Multibody Systems, 3rd ed., Cambridge 2005, sec. 5.5,
 // eq. 5.99-5.115, written in the quasi-velocities w): with s = x + S eta and J_P = [I, -A s~, A S] the
 // Jacobian of a material point's velocity,
-//   M(eta) w' + h(eta, w) = Q_gravity + Q_forces - [0; 0; K eta + D eta'],
+//   M(eta) w' + h(eta, w) = Q_gravity + Q_forces - [0; 0; K(omega) eta + D eta'],
 //   M = int rho J_P^T J_P dV,   h = int rho J_P^T A (omega x (omega x s) + 2 omega x S eta') dV,
 // and every integral is a combination of the superelement's inertia invariants (see flexible_body.cpp).
+// K(omega) = K + K_G(omega) - K_G(omega_ref) when the superelement carries the centrifugal geometric stiffness
+// (condense's geometric_stiffening): the prestress of the frame's spin omega (body axes) stiffens the modes,
+// the counterpart of the spin softening that h holds (Kane, Ryan & Banerjee, J. Guidance 10(2), 1987).
 // "linear" coupling drops the quadratic invariants S_kl everywhere except in the modal mass (Adams/Flex'
 // "partial coupling"): the body's inertia and the rotational coupling then follow eta to first order only.
 #include <array>
@@ -36,6 +39,11 @@ struct FlexibleData {
   std::array<Eigen::VectorXd, 9> position;                 // I_tilde_kl = int rho x_k S_l dV, [3 k + l] (n)
   std::array<Eigen::MatrixXd, 9> quadratic;                // S_kl = int rho S_k^T S_l dV, [3 k + l] (n x n)
   Eigen::VectorXd frequency_hz;                            // of the selected coordinates (information)
+  // Centrifugal geometric stiffness (empty, or six n x n matrices for the products omega_a omega_b in the
+  // order xx yy zz xy yz zx; per (rad/s)^2) and the spin the stiffness was reduced at (rad/s, component
+  // axes): K(omega) = K + sum_p (omega_a omega_b - ref_a ref_b) K_p (docs/hdf5-format.md, /reduced).
+  std::vector<Eigen::MatrixXd> geometric;
+  Vec3 reference_spin = Vec3::Zero();
   struct Point {
     std::string name;
     Vec3 position = Vec3::Zero();                          // u0, m, component frame
@@ -138,6 +146,9 @@ class FlexibleBody final : public Body {
   mutable Eigen::MatrixXd ws_dpsi_;        // n x 9: column 3k+l = dPsi_kl/deta
   mutable Eigen::Matrix<double, 3, Eigen::Dynamic> ws_3n_;  // 3 x n
   mutable Eigen::VectorXd ws_n_;           // n: D eta' (dissipated_power), K eta (strain_energy)
+  mutable Eigen::MatrixXd ws_geo_;         // n x 6: K_p eta (geometric stiffness)
+  /// Coefficients omega_a omega_b - ref_a ref_b of the geometric stiffness matrices.
+  std::array<double, 6> spin_coefficients(const Vec3& omega) const;
 };
 
 /// Build a flexible body from a scene's [[body]] table with type = "flexible" (keys read from `t`; the

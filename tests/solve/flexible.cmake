@@ -5,3 +5,6 @@ nvh_add_test(solve_flexible_tests SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_flexibl
 # valvetrain scene against the rigid rocker.
 nvh_add_test(flexible_rocker_tests SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_flexible_rocker.cpp
   LIBS nvh_solve nvh_condense)
+# Centrifugal geometric stiffening of a flexible body against the rotating-beam reference.
+nvh_add_test(geometric_stiffening_tests SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_geometric_stiffening.cpp
+  LIBS nvh_solve nvh_condense)

@@ -66,7 +66,10 @@ fs::path temp_dir(const std::string& name) {
 }
 
 /// A steel beam, L = 1 m, d = 20 mm, interfaces "a" at x = 0 and "b" at x = L (as test_flexible.cpp).
-void write_beam(const fs::path& file, condense::ReductionMethod method, bool orthonormalize, int modes) {
+/// `stiffening`: with the centrifugal geometric stiffness, reduced at a spin of (0.3, -0.2, 0.5) rad/s (so
+/// that both K_G(omega) and the reference's subtraction are exercised).
+void write_beam(const fs::path& file, condense::ReductionMethod method, bool orthonormalize, int modes,
+                bool stiffening = false) {
   condense::BeamSection s = circle(0.02);
   s.rotary_inertia = false;
   condense::Component c = straight_beam(1.0, s, 16, Steel{});
@@ -75,6 +78,10 @@ void write_beam(const fs::path& file, condense::ReductionMethod method, bool ort
   c.reduction.orthonormalize = orthonormalize;
   c.reduction.damping_ratio = 0.02;
   c.reduction.modes = modes;
+  if (stiffening) {
+    c.reduction.geometric_stiffening = true;
+    c.reduction.spin = {0.3, -0.2, 0.5};
+  }
   std::ostringstream quiet;
   const Logger log(quiet, "test", Verbosity::kQuiet);
   const condense::Superelement se = condense::condense_component(c, condense::EigenBackend::kSpectra, log);
@@ -149,9 +156,11 @@ struct Basis {
   condense::ReductionMethod method;
   bool orthonormalize;
   int modes;
+  bool stiffening = false;
 };
 const Basis kModal{"modal", condense::ReductionMethod::kModal, true, 6};
 const Basis kCraigBampton{"craig_bampton", condense::ReductionMethod::kCraigBampton, false, 4};
+const Basis kStiffened{"modal_stiffened", condense::ReductionMethod::kModal, true, 6, true};
 
 struct JacobianCase {
   Basis basis;
@@ -162,7 +171,7 @@ class FlexibleJacobian : public ::testing::TestWithParam<JacobianCase> {};
 TEST_P(FlexibleJacobian, ModelJacobianMatchesDifferencesOfTheResidual) {
   const auto& c = GetParam();
   const fs::path dir = temp_dir(std::string("model_") + c.basis.name + "_" + c.coupling);
-  write_beam(dir / "beam.h5", c.basis.method, c.basis.orthonormalize, c.basis.modes);
+  write_beam(dir / "beam.h5", c.basis.method, c.basis.orthonormalize, c.basis.modes, c.basis.stiffening);
   double worst = 0;
   for (unsigned seed : {1u, 2u, 3u}) {
     Scene s = parse_scene(flexible_scene(c.coupling, 0), "flexible_jacobian.toml", dir);
@@ -286,7 +295,7 @@ FunctionErrors check_functions(const FlexibleBody& body, unsigned seed, int stat
 TEST_P(FlexibleJacobian, EachDerivativeMatchesTheBaseClassDifferences) {
   const auto& c = GetParam();
   const fs::path dir = temp_dir(std::string("direct_") + c.basis.name + "_" + c.coupling);
-  write_beam(dir / "beam.h5", c.basis.method, c.basis.orthonormalize, c.basis.modes);
+  write_beam(dir / "beam.h5", c.basis.method, c.basis.orthonormalize, c.basis.modes, c.basis.stiffening);
   // The defaults' central differences (step 1e-7) carry a round-off of about eps |R| / 1e-7; at modal
   // coordinates of 0.1 the elastic forces K eta (up to 1e6 N) would drown them, so the body's stiffness is
   // scaled by 1e-3 here (K enters the derivatives as the block K alone; every other term is unchanged).
@@ -314,7 +323,7 @@ TEST_P(FlexibleJacobian, EachDerivativeMatchesTheBaseClassDifferences) {
 TEST_P(FlexibleJacobian, InertiaResidualIsLinearInTheAccelerationsWithTheMassMatrix) {
   const auto& c = GetParam();
   const fs::path dir = temp_dir(std::string("mass_") + c.basis.name + "_" + c.coupling);
-  write_beam(dir / "beam.h5", c.basis.method, c.basis.orthonormalize, c.basis.modes);
+  write_beam(dir / "beam.h5", c.basis.method, c.basis.orthonormalize, c.basis.modes, c.basis.stiffening);
   const FlexibleBody body("beam", load_flexible_data(dir / "beam.h5"),
                           std::string(c.coupling) == "full" ? Coupling::kFull : Coupling::kLinear,
                           InitialState{}, {}, {});
@@ -340,7 +349,8 @@ TEST_P(FlexibleJacobian, InertiaResidualIsLinearInTheAccelerationsWithTheMassMat
 INSTANTIATE_TEST_SUITE_P(Superelements, FlexibleJacobian,
                          ::testing::Values(JacobianCase{kModal, "full"}, JacobianCase{kModal, "linear"},
                                            JacobianCase{kCraigBampton, "full"},
-                                           JacobianCase{kCraigBampton, "linear"}),
+                                           JacobianCase{kCraigBampton, "linear"},
+                                           JacobianCase{kStiffened, "full"}, JacobianCase{kStiffened, "linear"}),
                          [](const auto& info) {
                            return std::string(info.param.basis.name) + "_" + info.param.coupling;
                          });
