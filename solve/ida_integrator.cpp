@@ -12,6 +12,7 @@
 #include <sunlinsol/sunlinsol_klu.h>
 #include <sunmatrix/sunmatrix_sparse.h>
 
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -119,6 +120,7 @@ class IdaIntegrator final : public Integrator {
       if (flag < 0) fail(flag);
       t_ = tret;
       stepped_ = true;
+      count_order();
       non_finite_.clear();  // a non-finite trial that IDA recovered from by a shorter step is no failure
       if (flag == IDA_ROOT_RETURN) {
         IDAGetRootInfo(mem_, roots_found_.data());
@@ -164,6 +166,7 @@ class IdaIntegrator final : public Integrator {
     s.linear_solves = s.newton_iterations;
     s.residual_evaluations += before_.residual_evaluations + jacobian_.residual_evaluations();
     s.events = events_;
+    s.steps_at_order = steps_at_order_;
     int order = 0;
     IDAGetLastOrder(mem_, &order), s.last_order = order;
     IDAGetLastStep(mem_, &s.last_step);
@@ -178,6 +181,18 @@ class IdaIntegrator final : public Integrator {
   // the steps of a run without events): on the dropped ball of tests/solve/test_contact_events.cpp it halves the
   // rejected steps (12 against 24); on piston slap it changes them little (bench/README.md).
   static constexpr bool kRestartAtEvents = true;
+
+  /// After IDASolve in one-step mode: if it took a step (a root found in the last step returns without a new
+  /// one), count it at the order it was taken with.
+  void count_order() {
+    long n = 0;
+    IDAGetNumSteps(mem_, &n);
+    if (n <= steps_seen_) return;
+    int order = 0;
+    IDAGetLastOrder(mem_, &order);
+    if (order >= 1 && order <= 5) steps_at_order_[order - 1] += n - steps_seen_;
+    steps_seen_ = n;
+  }
 
   /// IDA's counters, which IDAReInit resets.
   IntegratorStatistics counters() const {
@@ -202,6 +217,7 @@ class IdaIntegrator final : public Integrator {
     before_.jacobian_evaluations += c.jacobian_evaluations;
     before_.residual_evaluations += c.residual_evaluations;
     check(IDAReInit(mem_, t_, y_, yp_), "IDAReInit");
+    steps_seen_ = 0;
     if (h0_ > 0) check(IDASetInitStep(mem_, h0_), "IDASetInitStep");
     check(IDASetStopTime(mem_, t_stop), "IDASetStopTime");
     restart_pending_ = false;
@@ -332,6 +348,8 @@ class IdaIntegrator final : public Integrator {
   long events_ = 0;
   double h0_ = 0;
   IntegratorStatistics before_;   // IDA's counters summed over the restarts
+  std::array<long, 5> steps_at_order_{};  // accepted steps per BDF order, over the restarts
+  long steps_seen_ = 0;                   // IDAGetNumSteps at the last count (since the last restart)
   double cpu_residual_ = 0, cpu_jacobian_ = 0, cpu_total_ = 0;
   std::exception_ptr pending_;
   std::string last_message_;

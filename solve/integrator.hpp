@@ -1,5 +1,6 @@
 #pragma once
 // Time integrators behind one interface: both solve the model's residual F(t, y, y') = 0 (model.hpp).
+#include <array>
 #include <memory>
 #include <string>
 #include <vector>
@@ -46,6 +47,9 @@ struct IntegratorStatistics {
   long events = 0;  // contact onsets and releases located (IntegratorSettings::events)
   int last_order = 0;
   double last_step = 0;
+  // IDA: accepted steps taken at BDF order 1..5 (IDA picks the order itself, up to max_order); zeros for
+  // generalized-alpha. Results: steps_at_order_1 .. steps_at_order_5.
+  std::array<long, 5> steps_at_order{};
   // wall-clock seconds (steady_clock) in the residual, the Jacobian and the rest (results: wall_*_s)
   double cpu_residual_s = 0, cpu_jacobian_s = 0, cpu_factorization_s = 0;
 };

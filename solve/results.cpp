@@ -256,6 +256,9 @@ void ResultsWriter::finish(const std::string& status, const std::string& message
   g.set_attribute("events", static_cast<std::int64_t>(st.events));
   g.set_attribute("last_order", st.last_order);
   g.set_attribute("last_step_s", st.last_step);
+  for (std::size_t k = 0; k < st.steps_at_order.size(); ++k)
+    g.set_attribute("steps_at_order_" + std::to_string(k + 1),
+                    static_cast<std::int64_t>(st.steps_at_order[k]));
   g.set_attribute("wall_residual_s", st.cpu_residual_s);
   g.set_attribute("wall_jacobian_s", st.cpu_jacobian_s);
   g.set_attribute("wall_linear_algebra_and_other_s", st.cpu_factorization_s);
