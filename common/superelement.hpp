@@ -32,6 +32,14 @@ inline constexpr std::array<std::array<int, 2>, 6> kSpinProducts = {
     {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {1, 2}, {2, 0}}};
 inline constexpr std::array<const char*, 6> kSpinProductNames = {"xx", "yy", "zz", "xy", "yz", "zx"};
 
+/// omega_a omega_b of each product, for omega (rad/s): the coefficients of the geometric stiffness matrices.
+inline std::array<double, 6> spin_products(const Eigen::Vector3d& omega) {
+  std::array<double, 6> c{};
+  for (std::size_t p = 0; p < kSpinProducts.size(); ++p)
+    c[p] = omega(kSpinProducts[p][0]) * omega(kSpinProducts[p][1]);
+  return c;
+}
+
 /// Points of the component (interfaces or observation points) and their motion per coordinate
 /// (/interface and /observe).
 struct PointSet {

@@ -1,6 +1,5 @@
 #include "condense/condense.hpp"
 
-#include <Eigen/SVD>
 #include <algorithm>
 #include <limits>
 #include <set>
@@ -16,6 +15,7 @@ namespace nvh::condense {
 namespace {
 
 const char* kDofNames[6] = {"x", "y", "z", "rx", "ry", "rz"};
+constexpr double kPi = 3.14159265358979323846;
 
 /// Node index of each named point; error located at the point's entry if it is not on the model.
 std::vector<int> locate(const FeModel& model, const std::vector<NamedPoint>& points, double tolerance,
@@ -56,14 +56,7 @@ PointSet point_set(const FeModel& model, const std::vector<NamedPoint>& points, 
 void collect_boundary(const FeModel& model, const std::vector<NamedPoint>& interfaces,
                       const std::vector<int>& nodes, std::vector<int>& dofs,
                       std::vector<std::string>& names) {
-  // Free index of each master DOF: the identity entries of T.
-  std::vector<int> free_of_dof(model.all_dofs(), -1);
-  for (int col = 0; col < model.transform.outerSize(); ++col) {
-    for (SparseMatrix::InnerIterator it(model.transform, col); it; ++it) {
-      const int node = static_cast<int>(it.row()) / 6;
-      if (model.master_of[node] == node && it.value() == 1.0) free_of_dof[it.row()] = col;
-    }
-  }
+  const std::vector<int> free_of_dof = model.free_index();
   std::set<int> taken;
   for (std::size_t i = 0; i < interfaces.size(); ++i) {
     const int master = model.master_of[nodes[i]];
@@ -118,16 +111,7 @@ void check_reduction(const Component& component) {
 }
 
 int count_rigid_body_modes(const FeModel& model) {
-  const Eigen::MatrixXd R = model.rigid_body_field();
-  std::vector<int> rows;
-  for (int d = 0; d < model.all_dofs(); ++d)
-    if (model.supported_dof[d]) rows.push_back(d);
-  if (rows.empty()) return 6;
-  Eigen::MatrixXd held(rows.size(), 6);
-  for (std::size_t i = 0; i < rows.size(); ++i) held.row(i) = R.row(rows[i]);
-  Eigen::JacobiSVD<Eigen::MatrixXd> svd(held);
-  svd.setThreshold(1e-9);
-  return 6 - static_cast<int>(svd.rank());
+  return static_cast<int>(model.unsupported_rigid_motions().cols());
 }
 
 Superelement condense_component(const Component& c, EigenBackend backend, const Logger& log,
@@ -185,14 +169,6 @@ Superelement condense_component(const Component& c, EigenBackend backend, const 
     observer_nodes = locate(model, c.observers, c.point_tolerance, "observation");
   }
   const int rigid_body_modes = count_rigid_body_modes(model);
-  // The centrifugal geometric stiffness per product of the spin (geometric_stiffness.hpp), before the
-  // nodal stiffness is released.
-  std::array<SparseMatrix, 6> spin_stiffness;
-  const Eigen::Vector3d spin(c.reduction.spin[0], c.reduction.spin[1], c.reduction.spin[2]);
-  if (c.reduction.geometric_stiffening) {
-    spin_stiffness = centrifugal_geometric_stiffness(model, rigid_body_modes, run.ordering);
-    if (timer) timer->lap("prestress");
-  }
   // The free-DOF matrices; what the reduction does not need is freed before it runs (its factorization
   // sets the peak memory): the nodal stiffness, and the mesh unless it is exported. A modal reduction
   // reads one triangle only and hands both matrices over to the eigen-solve (see ReductionInput).
@@ -202,16 +178,6 @@ Superelement condense_component(const Component& c, EigenBackend backend, const 
   in.lower_triangles = stored == FeModel::Triangles::kLower;
   {
     SparseMatrix K = model.stiffness(stored);
-    if (spin.norm() > 0.0) {
-      // Reduced at speed: the modes of K + K_G(spin).
-      const std::array<double, 6> w = spin_products(spin);
-      SparseMatrix kg = w[0] * spin_stiffness[0];
-      for (int p = 1; p < 6; ++p) kg += w[p] * spin_stiffness[p];
-      if (stored == FeModel::Triangles::kLower) kg = SparseMatrix(kg.triangularView<Eigen::Lower>());
-      K += kg;
-      log.info("reduce at spin " + std::to_string(spin.norm() * 30.0 / 3.141592653589793) +
-               " rpm: stiffness K + K_G(omega)");
-    }
     in.stiffness.swap(K);  // Eigen 3.4's SparseMatrix has no move assignment: swap, not copy
   }
   release(model.stiffness_all);
@@ -223,6 +189,25 @@ Superelement condense_component(const Component& c, EigenBackend backend, const 
   log.info("model: " + std::to_string(model.nodes.size()) + " nodes, " + std::to_string(model.element_count) +
            " " + model.element_kind + ", " + std::to_string(model.free_dofs()) + " free DOF");
   if (timer) timer->lap("assemble");
+
+  // The centrifugal geometric stiffness per product of the spin (geometric_stiffness.hpp), from the
+  // free-DOF K and M; reduced at speed, the modes are those of K + K_G(spin).
+  std::array<SparseMatrix, 6> spin_stiffness;
+  const Eigen::Vector3d spin(c.reduction.spin[0], c.reduction.spin[1], c.reduction.spin[2]);
+  if (c.reduction.geometric_stiffening) {
+    spin_stiffness = centrifugal_geometric_stiffness(model, in.stiffness, in.mass, in.lower_triangles,
+                                                     rigid_body_modes, run.ordering);
+    if (spin.norm() > 0.0) {
+      const std::array<double, 6> w = spin_products(spin);
+      SparseMatrix kg = w[0] * spin_stiffness[0];
+      for (int p = 1; p < 6; ++p) kg += w[p] * spin_stiffness[p];
+      if (in.lower_triangles) kg = SparseMatrix(kg.triangularView<Eigen::Lower>());
+      in.stiffness += kg;
+      log.info("reduce at spin " + std::to_string(spin.norm() * 30.0 / kPi) +
+               " rpm: stiffness K + K_G(omega)");
+    }
+    if (timer) timer->lap("prestress");
+  }
 
   in.settings = c.reduction;
   in.backend = backend;

@@ -1,5 +1,7 @@
 #include "condense/fe_model.hpp"
 
+#include <Eigen/SVD>
+
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <limits>
@@ -134,6 +136,30 @@ Eigen::MatrixXd FeModel::rigid_body_field() const {
     }
   }
   return r;
+}
+
+Eigen::MatrixXd FeModel::unsupported_rigid_motions() const {
+  const Eigen::MatrixXd field = rigid_body_field();
+  std::vector<int> held;
+  for (int d = 0; d < all_dofs(); ++d)
+    if (supported_dof[d]) held.push_back(d);
+  if (held.empty()) return Eigen::MatrixXd::Identity(6, 6);
+  Eigen::MatrixXd rows(static_cast<Eigen::Index>(held.size()), 6);
+  for (std::size_t i = 0; i < held.size(); ++i) rows.row(static_cast<Eigen::Index>(i)) = field.row(held[i]);
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(rows, Eigen::ComputeFullV);
+  svd.setThreshold(1e-9);
+  return svd.matrixV().rightCols(6 - svd.rank());
+}
+
+std::vector<int> FeModel::free_index() const {
+  std::vector<int> index(all_dofs(), -1);
+  for (int col = 0; col < transform.outerSize(); ++col) {
+    for (SparseMatrix::InnerIterator it(transform, col); it; ++it) {
+      const int node = static_cast<int>(it.row()) / 6;
+      if (master_of[node] == node && it.value() == 1.0) index[it.row()] = col;
+    }
+  }
+  return index;
 }
 
 namespace {

@@ -87,6 +87,11 @@ struct FeModel {
   /// Rigid-body motions of all nodes about the component origin (6N x 6): columns are unit
   /// translations x, y, z and unit rotations about x, y, z.
   Eigen::MatrixXd rigid_body_field() const;
+  /// The combinations (6 x r) of rigid_body_field()'s columns that no support holds: the null space of
+  /// the field on the supported DOF (rank threshold 1e-9); r is the number of rigid-body modes.
+  Eigen::MatrixXd unsupported_rigid_motions() const;
+  /// Per nodal DOF, its index among the free DOF (the identity entries of T on master nodes), else -1.
+  std::vector<int> free_index() const;
 };
 
 /// Give back the storage of a sparse matrix now. Eigen 3.4's SparseMatrix has no move assignment:

@@ -1,7 +1,6 @@
 #include "condense/geometric_stiffness.hpp"
 
 #include <Eigen/Cholesky>
-#include <Eigen/SVD>
 
 #include "common/error.hpp"
 #include "condense/static_solve.hpp"
@@ -33,56 +32,35 @@ Eigen::MatrixXd centrifugal_loads(const FeModel& model) {
 
 /// The model's rigid-body modes on the free DOF, M-orthonormal (free x r): the rigid fields that the
 /// supports leave free, restricted to the master DOF (a slave follows its master rigidly).
-Eigen::MatrixXd free_rigid_body_modes(const FeModel& model, const SparseMatrix& M, int rigid) {
+Eigen::MatrixXd free_rigid_body_modes(const FeModel& model, const SparseMatrix& M, bool lower, int rigid) {
   const int n = model.free_dofs();
   if (rigid == 0) return Eigen::MatrixXd(n, 0);
   const Eigen::MatrixXd field = model.rigid_body_field();
-  // Combinations of the 6 rigid fields that no support holds: the null space of the held rows.
-  std::vector<int> held;
-  for (int d = 0; d < model.all_dofs(); ++d)
-    if (model.supported_dof[d]) held.push_back(d);
-  Eigen::MatrixXd free_combinations = Eigen::MatrixXd::Identity(6, 6);
-  if (!held.empty()) {
-    Eigen::MatrixXd rows(held.size(), 6);
-    for (std::size_t i = 0; i < held.size(); ++i) rows.row(static_cast<Eigen::Index>(i)) = field.row(held[i]);
-    Eigen::JacobiSVD<Eigen::MatrixXd> svd(rows, Eigen::ComputeFullV);
-    free_combinations = svd.matrixV().rightCols(rigid);
-  }
-  // The free DOF are the identity columns of T on master DOF.
+  const std::vector<int> free = model.free_index();
   Eigen::MatrixXd r = Eigen::MatrixXd::Zero(n, 6);
-  for (int col = 0; col < model.transform.outerSize(); ++col) {
-    for (SparseMatrix::InnerIterator it(model.transform, col); it; ++it) {
-      const int node = static_cast<int>(it.row()) / 6;
-      if (model.master_of[node] == node && it.value() == 1.0) r.row(col) = field.row(it.row());
-    }
-  }
-  Eigen::MatrixXd phi = r * free_combinations;
-  const Eigen::MatrixXd gram = phi.transpose() * (M * phi);
+  for (int d = 0; d < model.all_dofs(); ++d)
+    if (free[d] >= 0) r.row(free[d]) = field.row(d);
+  const Eigen::MatrixXd phi = r * model.unsupported_rigid_motions();
+  const Eigen::MatrixXd gram = phi.transpose() * symmetric_times(M, lower, phi);
   const Eigen::LLT<Eigen::MatrixXd> llt(0.5 * (gram + gram.transpose()));
-  if (llt.info() != Eigen::Success) throw Error("geometric stiffness: the rigid-body modes have no mass");
+  if (llt.info() != Eigen::Success || phi.cols() != rigid)
+    throw Error("geometric stiffness: the rigid-body modes have no mass, or do not match the count");
   // phi L^-T: M-orthonormal.
   return llt.matrixU().solve<Eigen::OnTheRight>(phi);
 }
 
 }  // namespace
 
-std::array<double, 6> spin_products(const Eigen::Vector3d& omega) {
-  std::array<double, 6> c{};
-  for (int p = 0; p < 6; ++p) c[p] = omega(kSpinProducts[p][0]) * omega(kSpinProducts[p][1]);
-  return c;
-}
-
-std::array<SparseMatrix, 6> centrifugal_geometric_stiffness(const FeModel& model, int rigid_body_modes,
-                                                            Ordering ordering) {
+std::array<SparseMatrix, 6> centrifugal_geometric_stiffness(const FeModel& model, const SparseMatrix& K,
+                                                            const SparseMatrix& M, bool lower,
+                                                            int rigid_body_modes, Ordering ordering) {
   if (model.beam_elements.empty()) {
     throw Error("geometric stiffening is implemented for beam components only (" + model.element_kind +
                 " have no prestress stiffness yet)");
   }
-  const SparseMatrix K = model.stiffness();
-  const SparseMatrix M = model.mass();
   const Eigen::MatrixXd loads = model.transform.transpose() * centrifugal_loads(model);
-  const Eigen::MatrixXd phi_r = free_rigid_body_modes(model, M, rigid_body_modes);
-  const Eigen::MatrixXd u = model.transform * inertia_relief_solve(K, M, false, loads, phi_r, ordering);
+  const Eigen::MatrixXd phi_r = free_rigid_body_modes(model, M, lower, rigid_body_modes);
+  const Eigen::MatrixXd u = model.transform * inertia_relief_solve(K, M, lower, loads, phi_r, ordering);
 
   // Each element's axial force under each load, and its geometric stiffness in global DOF.
   std::array<std::vector<Eigen::Triplet<double>>, 6> triplets;

@@ -31,13 +31,14 @@ namespace nvh::condense {
 using nvh::kSpinProductNames;
 using nvh::kSpinProducts;
 
-/// omega_a omega_b of each product, for omega (rad/s).
-std::array<double, 6> spin_products(const Eigen::Vector3d& omega);
+using nvh::spin_products;
 
 /// The six K_ab on the free DOF (both triangles), N/m per (rad/s)^2 (and N m/rad per (rad/s)^2 on the
-/// rotations). `rigid_body_modes`: the model's count (count_rigid_body_modes); the static solutions use
-/// inertia relief when it is not zero. nvh::Error for a model that is not made of beams.
-std::array<SparseMatrix, 6> centrifugal_geometric_stiffness(const FeModel& model, int rigid_body_modes,
-                                                            Ordering ordering);
+/// rotations). K and M: the model's free-DOF matrices, whole or as lower triangles (`lower`).
+/// `rigid_body_modes`: the model's count (count_rigid_body_modes); the static solutions use inertia
+/// relief when it is not zero. nvh::Error for a model that is not made of beams.
+std::array<SparseMatrix, 6> centrifugal_geometric_stiffness(const FeModel& model, const SparseMatrix& K,
+                                                            const SparseMatrix& M, bool lower,
+                                                            int rigid_body_modes, Ordering ordering);
 
 }  // namespace nvh::condense

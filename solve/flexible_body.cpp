@@ -190,12 +190,9 @@ FlexibleBody::FlexibleBody(std::string name, FlexibleData data, Coupling couplin
 }
 
 std::array<double, 6> FlexibleBody::spin_coefficients(const Vec3& omega) const {
-  std::array<double, 6> c{};
-  const Vec3& ref = data_.reference_spin;
-  for (int p = 0; p < 6; ++p) {
-    const int a = kSpinProducts[p][0], b = kSpinProducts[p][1];
-    c[p] = omega[a] * omega[b] - ref[a] * ref[b];
-  }
+  std::array<double, 6> c = spin_products(omega);
+  const std::array<double, 6> ref = spin_products(data_.reference_spin);
+  for (int p = 0; p < 6; ++p) c[p] -= ref[p];
   return c;
 }
 

@@ -137,7 +137,8 @@ SparseMatrix expected_geometric_stiffness(const FeModel& model, const std::funct
 TEST(GeometricStiffness, CantileverPrestressIsTheClosedFormAxialForce) {
   const Component c = spinning_cantilever(0.0, 4);
   const FeModel model = build_beam_model(c);
-  const auto kg = centrifugal_geometric_stiffness(model, count_rigid_body_modes(model), Ordering::kAuto);
+  const auto kg = centrifugal_geometric_stiffness(model, model.stiffness(), model.mass(), false,
+                                                  count_rigid_body_modes(model), Ordering::kAuto);
   const double rhoA = Steel{}.rho * blade_section().A;
   // Unit spin about z (product zz): N(x) = rho A (L^2 - x^2) / 2.
   const SparseMatrix expected =
@@ -154,7 +155,8 @@ TEST(GeometricStiffness, FreeBarSpinningAboutItsEndIsBalancedByInertiaRelief) {
   c.supports.clear();
   const FeModel model = build_beam_model(c);
   ASSERT_EQ(count_rigid_body_modes(model), 6);
-  const auto kg = centrifugal_geometric_stiffness(model, 6, Ordering::kAuto);
+  const auto kg =
+      centrifugal_geometric_stiffness(model, model.stiffness(), model.mass(), false, 6, Ordering::kAuto);
   const double rhoA = Steel{}.rho * blade_section().A;
   // The resultant rho A L^2 / 2 (per unit Omega^2) accelerates the bar by L / 2: N(x) = rho A x (L - x) / 2.
   const SparseMatrix expected =
