@@ -103,6 +103,7 @@ struct ReductionSettings {
   /// Modal only: add the inertia-relief residual (attachment) modes of the interface DOF, so a static
   /// load at the interfaces is represented exactly (reduction.cpp, residual_attachment_modes).
   bool residual_modes = false;
+  bool residual_modes_given = false;  ///< the file said; otherwise default_residual_modes() decides
   /// Write the centrifugal geometric stiffness per product of the spin's components
   /// (geometric_stiffness.hpp), so that solve stiffens the body at its own spin.
   bool geometric_stiffening = false;
@@ -110,9 +111,24 @@ struct ReductionSettings {
   /// K + K_G(spin). Zero: at rest. Implies geometric_stiffening.
   Vec3 spin{};
   double damping_ratio = 0.0;                ///< modal damping ratio zeta of the retained modes
+  /// The band the results must cover, Hz (0: not given). Given, condense estimates the error of the
+  /// reduced model's receptance at every interface in (0, band] (frf_error.hpp); given without fmax and
+  /// modes, it also chooses the cut-off: the lowest that brings the estimate below frf_tolerance.
+  double band_hz = 0.0;
+  double frf_tolerance = 0.01;  ///< relative error of the interface receptance the cut-off must reach
+  int error_samples = 16;       ///< frequencies sampled in the band (at least one between resonances)
+  SourceLocation band_where;    ///< of band, for messages
   SourceLocation where;                      ///< of fmax or modes (or of the table), for messages
   std::string where_key = "reduction.fmax";  ///< the key (or command-line option) that set the count
 };
+
+/// A modal reduction whose cut-off is chosen from the band adds residual modes unless the file says
+/// otherwise: without them the static response at the interfaces keeps the truncation error.
+inline void default_residual_modes(ReductionSettings& r) {
+  if (r.residual_modes_given) return;
+  r.residual_modes =
+      r.band_hz > 0.0 && r.fmax_hz <= 0.0 && r.modes <= 0 && r.method == ReductionMethod::kModal;
+}
 
 struct BeamGeometry {
   std::vector<Vec3> points;  ///< stations along the beam's axis (a polyline), m

@@ -230,7 +230,17 @@ ReductionSettings read_reduction(const Table& t) {
   r.where_key = fmax ? "reduction.fmax" : modes ? "reduction.modes" : "reduction";
   r.modes = static_cast<int>(modes.value_or(0));
   r.orthonormalize = t.optional_boolean("orthonormalize").value_or(true);
-  r.residual_modes = t.optional_boolean("residual_modes").value_or(false);
+  // The band (Hz) the results must cover: an error estimate in it, and the cut-off chosen from it when
+  // neither fmax nor modes is given (frf_error.hpp).
+  const auto band = t.optional_number("band", Range{0.0, 1e7, true, false});
+  r.band_hz = band.value_or(0.0);
+  r.band_where = band ? t.location("band") : t.location();
+  r.frf_tolerance = t.number_or("frf_tolerance", 0.01, Range{0.0, 1.0, true, false});
+  r.error_samples = static_cast<int>(t.optional_integer("error_samples", Range::closed(1, 1000)).value_or(16));
+  const auto residual = t.optional_boolean("residual_modes");
+  r.residual_modes_given = residual.has_value();
+  r.residual_modes = residual.value_or(false);
+  default_residual_modes(r);
   const auto rpm = t.optional_number("spin_speed_rpm", Range{0.0, 1e6, false, false});  // rev/min
   const auto axis = t.optional_vec3("spin_axis", Range::magnitude(1e6));
   if (axis && !rpm) t.fail("spin_axis", "spin_axis needs spin_speed_rpm (the speed to reduce at)");

@@ -87,15 +87,20 @@ void apply_options(Component& component, const CondenseOptions& options) {
     r.where_key = "--modes";
   }
   if (options.method) r.method = *options.method;
+  if (options.band_hz) {
+    r.band_hz = *options.band_hz;
+    r.band_where = command_line;
+  }
+  default_residual_modes(r);
   check_reduction(component);
 }
 
 void check_reduction(const Component& component) {
   const ReductionSettings& r = component.reduction;
-  if (r.method != ReductionMethod::kGuyan && r.fmax_hz <= 0.0 && r.modes <= 0) {
+  if (r.method != ReductionMethod::kGuyan && r.fmax_hz <= 0.0 && r.modes <= 0 && r.band_hz <= 0.0) {
     throw Error("the " + to_string(r.method) +
-                    " reduction needs fmax (Hz) or modes (a count) in [reduction], "
-                    "or --fmax / --modes on the command line",
+                    " reduction needs band (Hz: the cut-off chosen to meet frf_tolerance), fmax (Hz) or "
+                    "modes (a count) in [reduction], or --band / --fmax / --modes on the command line",
                 r.where, "reduction");
   }
   if (r.residual_modes && r.method != ReductionMethod::kModal) {
@@ -214,6 +219,15 @@ Superelement condense_component(const Component& c, EigenBackend backend, const 
   in.progress = run.progress;
   in.ordering = run.ordering;
   in.rigid_body_modes = rigid_body_modes;
+  {
+    // The error estimate scales rotations by the model's size: half the diagonal of its bounding box.
+    Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = -lo;
+    for (const Eigen::Vector3d& x : model.nodes) {
+      lo = lo.cwiseMin(x);
+      hi = hi.cwiseMax(x);
+    }
+    in.length_scale = model.nodes.empty() ? 1.0 : std::max(0.5 * (hi - lo).norm(), 1e-9);
+  }
   collect_boundary(model, c.interfaces, interface_nodes, in.boundary_dofs, in.boundary_names);
 
   log.info("reduce: " + to_string(c.reduction.method) + " on " + std::to_string(model.free_dofs()) +
@@ -283,6 +297,10 @@ Superelement condense_component(const Component& c, EigenBackend backend, const 
   se.factor_seconds = r.factor.factor_seconds;
   se.eigen_seconds = r.eigen_seconds;
   se.eigen_solves = r.eigen_solves;
+  se.reduction_error.estimate = r.frf_error;
+  se.reduction_error.tolerance = c.reduction.frf_tolerance;
+  se.reduction_error.cutoff_hz = r.cutoff_hz;
+  se.reduction_error.passes = r.cutoff_passes;
   if (run.mesh_export && volume) {
     *run.mesh_export =
         make_mesh_export(mesh, shapes, se.coordinates,

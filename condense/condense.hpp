@@ -17,6 +17,7 @@ struct CondenseOptions {
   std::optional<double> fmax_hz;  ///< replaces fmax and clears modes
   std::optional<int> modes;       ///< replaces modes and clears fmax
   std::optional<ReductionMethod> method;
+  std::optional<double> band_hz;  ///< replaces band (Hz)
   EigenBackend backend = EigenBackend::kSpectra;
   Ordering ordering = Ordering::kAuto;
 };

@@ -36,6 +36,11 @@ factorization) and reduces it:
                  of interest (more with many interfaces) keeps the reduced frequencies within about
                  0.1 % (measured cases in docs/component-format.md section 5)
   guyan          interface DOF + constraint modes only (static condensation)
+Or give the band the results must cover instead of a cut-off: band = 800 (Hz) chooses the cut-off
+(from 1.5 x band up) until the estimated error of the receptance at every interface in 0 .. band, from
+full-model solves at sampled frequencies, is below frf_tolerance (default 0.01); with fmax or modes
+given, band only estimates and reports that error. The estimate goes to the log and to
+/reduction_error of OUT.h5 (docs/component-format.md section 5.3).
 Options of [reduction]: residual_modes = true (modal: static correction modes of the interface DOF);
 geometric_stiffening = true (beams: the centrifugal stress stiffness per product of the spin's
 components, which solve scales with each flexible body's own spin; spin_speed_rpm and spin_axis reduce
@@ -98,6 +103,7 @@ int main(int argc, char** argv) {
   std::string component_file, output_file, method, eigensolver = "spectra";
   std::optional<double> fmax;
   std::optional<int> modes;
+  std::optional<double> band;
   bool quiet = false, verbose = false, keep_mesh = false;
   std::string ordering = "auto";
   app.add_option("COMPONENT", component_file, "component file (.toml); see docs/component-format.md")
@@ -107,6 +113,11 @@ int main(int argc, char** argv) {
                  "renamed when complete")
       ->required();
   app.add_option("--fmax", fmax, "keep modes up to this frequency, Hz (overrides [reduction] fmax/modes)")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--band", band,
+                 "the band the results must cover, Hz: estimate the reduced model's receptance error in it, "
+                 "and choose the cut-off unless --fmax/--modes (or fmax/modes in the file) give one "
+                 "(overrides [reduction] band)")
       ->check(CLI::PositiveNumber);
   app.add_option("--modes", modes, "keep this many modes (overrides [reduction] fmax/modes)")
       ->check(CLI::PositiveNumber);
@@ -157,6 +168,7 @@ int main(int argc, char** argv) {
     CondenseOptions options;
     options.fmax_hz = fmax;
     options.modes = modes;
+    options.band_hz = band;
     if (!method.empty()) {
       options.method = method == "modal"   ? ReductionMethod::kModal
                        : method == "guyan" ? ReductionMethod::kGuyan
@@ -174,6 +186,8 @@ int main(int argc, char** argv) {
         what << " (interface DOF only)";
       } else if (r.modes > 0) {
         what << ", " << r.modes << " modes";
+      } else if (r.fmax_hz <= 0.0) {
+        what << ", cut-off chosen for the band 0 .. " << r.band_hz << " Hz";
       } else {
         what << ", modes up to " << r.fmax_hz << " Hz";
       }

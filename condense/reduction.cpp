@@ -3,7 +3,9 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/QR>
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <sstream>
 
@@ -43,6 +45,88 @@ Eigen::MatrixXd modal_damping(const Eigen::MatrixXd& mass, const Eigen::MatrixXd
                               const Eigen::VectorXd& omega, double zeta) {
   const Eigen::MatrixXd mx = mass * elastic_vectors;
   return mx * (2.0 * zeta * omega).asDiagonal() * mx.transpose();
+}
+
+/// The deflation of the error estimate (frf_error.hpp) must hold every mode up to 5 % above the band.
+constexpr double kDeflationMargin = 1.05 * 1.05;
+
+double square(double x) { return x * x; }
+double band_omega2(const ReductionSettings& s) { return square(kTwoPi * s.band_hz); }
+
+/// The eigenvalue below which `eig` holds every eigenpair: the next one above fmax (fmax requests; none
+/// found: all of them), or its highest (count requests: the next lies at or above it).
+double deflation_bound(const EigenResult& eig, bool fmax_request) {
+  if (fmax_request)
+    return std::isnan(eig.next_eigenvalue) ? std::numeric_limits<double>::infinity() : eig.next_eigenvalue;
+  return eig.eigenvalues.size() ? eig.eigenvalues(eig.eigenvalues.size() - 1) : 0.0;
+}
+
+/// The rows `rows` of x.
+Eigen::MatrixXd rows_of(const Eigen::MatrixXd& x, const std::vector<int>& rows) {
+  Eigen::MatrixXd out(static_cast<Eigen::Index>(rows.size()), x.cols());
+  for (std::size_t i = 0; i < rows.size(); ++i) out.row(static_cast<Eigen::Index>(i)) = x.row(rows[i]);
+  return out;
+}
+
+/// Phi diag(1 / (lambda - w^2)) Phi^T: the receptance of the modes Phi (rows: the interface DOF).
+Eigen::MatrixXd modal_receptance(const Eigen::MatrixXd& phi, const Eigen::VectorXd& lambda, double omega2) {
+  const Eigen::VectorXd inverse = (lambda.array() - omega2).inverse().matrix();
+  return phi * inverse.asDiagonal() * phi.transpose();
+}
+
+/// The error estimate of a modal reduction (frf_error.hpp): the full model's receptance at the interface
+/// DOF from deflated solves with its own modes `eig` (rigid ones first), against r's (rigid-body part
+/// exact in both). K and M as the reduction had them.
+FrfErrorEstimate modal_frf_error(const SparseMatrix& K, const SparseMatrix& M, const ReductionInput& in,
+                                 const EigenResult& eig, const ReducedModel& r) {
+  const auto start = std::chrono::steady_clock::now();
+  const ReductionSettings& s = in.settings;
+  const int rigid = in.rigid_body_modes;
+  const double top2 = band_omega2(s);
+  // The modes of the reduction reach above the band, or a second eigen-solve gets those that do.
+  const EigenResult* deflation = &eig;
+  EigenResult extra;
+  if (deflation_bound(eig, s.modes <= 0) < kDeflationMargin * top2) {
+    EigenRequest request = request_for(s, rigid, in);
+    request.modes = 0;
+    request.fmax_hz = 1.25 * s.band_hz;
+    request.progress = {};
+    extra = solve_eigenproblem(SparseMatrix(K), SparseMatrix(M), request);
+    deflation = &extra;
+  }
+  const double bound = deflation_bound(*deflation, deflation != &eig || s.modes <= 0);
+  // Preconditioner: K - sigma M, positive definite for a free part too.
+  const double sigma = -square(kTwoPi * s.band_hz / 10.0);
+  SparseCholesky preconditioner(in.ordering);
+  if (!preconditioner.factorize(SparseMatrix(K - sigma * M)))
+    throw Error("the error estimate could not factorize K - sigma M (M not positive definite?)");
+  DeflatedShiftedSolver solver(K, M, in.lower_triangles, deflation->vectors, deflation->eigenvalues, bound,
+                               preconditioner);
+  const int n = static_cast<int>(K.rows());
+  const int nb = static_cast<int>(in.boundary_dofs.size());
+  Eigen::MatrixXd unit = Eigen::MatrixXd::Zero(n, nb);
+  for (int j = 0; j < nb; ++j) unit(in.boundary_dofs[j], j) = 1.0;
+  const Eigen::MatrixXd basis_b = rows_of(r.basis, in.boundary_dofs);
+  const Eigen::VectorXd lambda_r = r.stiffness.diagonal();  // M_r = I, K_r diagonal
+  const Eigen::MatrixXd rigid_b = rows_of(eig.vectors.leftCols(rigid), in.boundary_dofs);
+  const Eigen::VectorXd lambda_rigid = eig.eigenvalues.head(rigid);
+
+  const std::vector<double> samples = frf_sample_frequencies(s.band_hz, r.frequency_hz, s.error_samples);
+  std::vector<Eigen::MatrixXd> full, reduced, rigid_part;
+  int iterations = 0;
+  for (double f : samples) {
+    const double w2 = square(kTwoPi * f);
+    const Eigen::MatrixXd g = rows_of(solver.solve(w2, unit), in.boundary_dofs);
+    iterations += solver.iterations();
+    full.push_back(0.5 * (g + g.transpose()));
+    rigid_part.push_back(modal_receptance(rigid_b, lambda_rigid, w2));
+    reduced.push_back(rigid_part.back() + modal_receptance(basis_b, lambda_r, w2));
+  }
+  FrfErrorEstimate e = compare_receptances(s.band_hz, samples, full, reduced, rigid_part, in.boundary_names,
+                                           in.length_scale);
+  e.solver_iterations = iterations;
+  e.cost_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return e;
 }
 
 struct ResidualModes {
@@ -124,9 +208,15 @@ ReducedModel modal_reduction(ReductionInput& in, const Logger& log) {
     throw Error("residual_modes = true needs at least one [[interface]] point (its DOF are the load points)",
                 s.where, "reduction.residual_modes");
   }
-  // The residual modes need K and M after the eigen-solve, which consumes them: keep copies then.
+  if (s.band_hz > 0.0 && in.boundary_dofs.empty()) {
+    throw Error("band needs at least one [[interface]] point: the error estimate is that of the receptance "
+                "at the interfaces; without one give fmax or modes",
+                s.band_where, "reduction.band");
+  }
+  // The residual modes and the error estimate need K and M after the eigen-solve, which consumes them:
+  // keep copies then.
   SparseMatrix K, M;
-  if (s.residual_modes) {
+  if (s.residual_modes || s.band_hz > 0.0) {
     K = in.stiffness;
     M = in.mass;
   }
@@ -155,7 +245,10 @@ ReducedModel modal_reduction(ReductionInput& in, const Logger& log) {
   r.eigen_solves = eig.matrix_operations;
   log.detail("modal: " + std::to_string(m) + " elastic modes, " + hz(r.frequency_hz(0)) + " .. " +
              hz(r.frequency_hz(m - 1)));
-  if (!s.residual_modes) return r;
+  if (!s.residual_modes) {
+    if (s.band_hz > 0.0) r.frf_error = modal_frf_error(K, M, in, eig, r);
+    return r;
+  }
 
   // Residual (attachment) modes of the interface DOF, appended after the kept modes. Both blocks are
   // M-orthonormal and K-diagonal and the residual ones lie above the band (see residual_attachment_modes),
@@ -192,7 +285,74 @@ ReducedModel modal_reduction(ReductionInput& in, const Logger& log) {
              (k > 0 ? hz(res.lambda.cwiseSqrt()(0) / kTwoPi) + " .. " +
                           hz(res.lambda.cwiseSqrt()(k - 1) / kTwoPi)
                     : std::string("none")));
+  if (s.band_hz > 0.0) r.frf_error = modal_frf_error(K, M, in, eig, r);
   return r;
+}
+
+/// The error estimate of a Craig-Bampton or Guyan reduction (frf_error.hpp). The full model's receptance
+/// at the boundary is the inverse of its dynamic Schur complement,
+///     S(w) = D_bb - D_bi D_ii^-1 D_ib,   D = K - w^2 M,
+/// with D_ii^-1 D_ib from deflated solves with the fixed-interface modes phi (eigenvalues lambda, all of
+/// them below `bound`) and the interior factor `kii_factor`; the reduced one is the boundary block of
+/// (K_r - w^2 M_r)^-1, the first nb coordinates being the boundary DOF. The rigid-body part (free parts)
+/// comes from the reduced eigenproblem, whose basis holds the rigid motion exactly.
+FrfErrorEstimate craig_bampton_frf_error(const ReductionInput& in, const std::vector<int>& b,
+                                         const std::vector<int>& i_dofs,
+                                         std::shared_ptr<SparseCholesky> kii_factor, Eigen::MatrixXd phi,
+                                         Eigen::VectorXd lambda, double bound, const ReducedModel& r) {
+  const auto start = std::chrono::steady_clock::now();
+  const ReductionSettings& s = in.settings;
+  const SparseMatrix& K = in.stiffness;
+  const SparseMatrix& M = in.mass;
+  const double top2 = band_omega2(s);
+  const SparseMatrix Kii = submatrix(K, i_dofs, i_dofs);
+  const SparseMatrix Mii = submatrix(M, i_dofs, i_dofs);
+  if (bound < kDeflationMargin * top2) {
+    // Guyan, or a cut-off below the band: the fixed-interface modes up to 1.25 band, for the estimate.
+    EigenRequest request = request_for(s, 0, in);
+    request.modes = 0;
+    request.fmax_hz = 1.25 * s.band_hz;
+    request.progress = {};
+    request.stiffness_factor = kii_factor;
+    EigenResult eig = solve_eigenproblem(SparseMatrix(Kii), SparseMatrix(Mii), request);
+    bound = deflation_bound(eig, true);
+    phi = std::move(eig.vectors);
+    lambda = std::move(eig.eigenvalues);
+  }
+  DeflatedShiftedSolver solver(Kii, Mii, false, phi, lambda, bound, *kii_factor);
+  const SparseMatrix Kib = submatrix(K, i_dofs, b), Mib = submatrix(M, i_dofs, b);
+  const Eigen::MatrixXd Kbb = Eigen::MatrixXd(submatrix(K, b, b)), Mbb = Eigen::MatrixXd(submatrix(M, b, b));
+  const int nb = static_cast<int>(b.size()), rigid = in.rigid_body_modes;
+
+  Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> reduced_modes(r.stiffness, r.mass);
+  const Eigen::VectorXd reduced_lambda = reduced_modes.eigenvalues();
+  const Eigen::MatrixXd rigid_b = reduced_modes.eigenvectors().topLeftCorner(nb, rigid);
+  const Eigen::VectorXd lambda_rigid = reduced_lambda.head(rigid);
+  const Eigen::VectorXd resonances =
+      reduced_lambda.tail(reduced_lambda.size() - rigid).cwiseMax(0.0).cwiseSqrt() / kTwoPi;
+
+  const std::vector<double> samples = frf_sample_frequencies(s.band_hz, resonances, s.error_samples);
+  std::vector<Eigen::MatrixXd> full, reduced, rigid_part;
+  int iterations = 0;
+  for (double f : samples) {
+    const double w2 = square(kTwoPi * f);
+    const SparseMatrix Dib = Kib - w2 * Mib;
+    const Eigen::MatrixXd x = solver.solve(w2, -Eigen::MatrixXd(Dib));  // D_ii^-1 (-D_ib)
+    iterations += solver.iterations();
+    Eigen::MatrixXd schur = Kbb - w2 * Mbb + Eigen::MatrixXd(Dib.transpose() * x);
+    schur = 0.5 * (schur + schur.transpose()).eval();
+    const Eigen::MatrixXd g = schur.fullPivLu().inverse();
+    full.push_back(0.5 * (g + g.transpose()));
+    const Eigen::MatrixXd d_r = r.stiffness - w2 * r.mass;
+    const Eigen::MatrixXd g_r = d_r.fullPivLu().inverse().topLeftCorner(nb, nb);
+    reduced.push_back(0.5 * (g_r + g_r.transpose()));
+    rigid_part.push_back(modal_receptance(rigid_b, lambda_rigid, w2));
+  }
+  FrfErrorEstimate e = compare_receptances(s.band_hz, samples, full, reduced, rigid_part, in.boundary_names,
+                                           in.length_scale);
+  e.solver_iterations = iterations;
+  e.cost_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return e;
 }
 
 ReducedModel craig_bampton(const ReductionInput& in, bool with_fixed_interface_modes, const Logger& log) {
@@ -240,6 +400,8 @@ ReducedModel craig_bampton(const ReductionInput& in, bool with_fixed_interface_m
   double max_residual = 0.0;
   double eigen_seconds = 0.0;
   int eigen_solves = 0;
+  double bound = 0.0;  // every fixed-interface eigenvalue below it is in phi (the error estimate)
+  Eigen::VectorXd fixed_lambda;
   if (with_fixed_interface_modes && ni > 0) {
     EigenRequest request = request_for(s, 0, in);
     request.stiffness_factor = chol;
@@ -251,13 +413,15 @@ ReducedModel craig_bampton(const ReductionInput& in, bool with_fixed_interface_m
                   s.where, s.where_key);
     }
     phi = eig.vectors;
+    bound = deflation_bound(eig, s.modes <= 0);
+    fixed_lambda = eig.eigenvalues;
     fixed_hz = eig.eigenvalues.unaryExpr([](double l) { return frequency_hz(l); });
     max_residual = eig.residuals.size() ? eig.residuals.maxCoeff() : 0.0;
     factor.add(eig.factor);
     eigen_seconds = eig.iteration_seconds;
     eigen_solves = eig.matrix_operations;
   }
-  chol.reset();
+  if (!(s.band_hz > 0.0)) chol.reset();  // the error estimate needs it; else free it before the basis
   const int nm = static_cast<int>(phi.cols());
 
   ReducedModel r;
@@ -278,6 +442,9 @@ ReducedModel craig_bampton(const ReductionInput& in, bool with_fixed_interface_m
   r.mass = r.basis.transpose() * (M * r.basis);
   r.stiffness = 0.5 * (r.stiffness + r.stiffness.transpose()).eval();
   r.mass = 0.5 * (r.mass + r.mass.transpose()).eval();
+  if (s.band_hz > 0.0 && ni > 0) {
+    r.frf_error = craig_bampton_frf_error(in, b, i_dofs, chol, phi, fixed_lambda, bound, r);
+  }
   log.detail(to_string(s.method) + ": " + std::to_string(nb) + " boundary DOF, " + std::to_string(nm) +
              " fixed-interface modes");
   return r;
@@ -316,9 +483,9 @@ void finish_reduced(ReducedModel& r, const ReductionInput& in) {
 
 }  // namespace
 
-ReducedModel reduce(ReductionInput& in, const Logger& log) {
-  if (in.lower_triangles && in.settings.method != ReductionMethod::kModal)
-    throw Error("internal: only the modal reduction works on lower triangles");
+namespace {
+
+ReducedModel reduce_once(ReductionInput& in, const Logger& log) {
   switch (in.settings.method) {
     case ReductionMethod::kModal:
       return modal_reduction(in, log);
@@ -334,6 +501,87 @@ ReducedModel reduce(ReductionInput& in, const Logger& log) {
     }
   }
   throw Error("unknown reduction method");
+}
+
+std::string percent(double x) {
+  std::ostringstream s;
+  s.precision(3);
+  s << 100.0 * x << " %";
+  return s.str();
+}
+
+/// The estimate in the log: one line for the interface, one per point (verbose), a warning above the
+/// tolerance.
+void report_error(const ReducedModel& r, const ReductionSettings& s, const Logger& log) {
+  const FrfErrorEstimate& e = r.frf_error;
+  if (e.empty()) return;
+  log.info("receptance error at the interfaces in 0 .. " + hz(s.band_hz) + " (" +
+           std::to_string(e.frequency_hz.size()) + " frequencies, " + std::to_string(e.solver_iterations) +
+           " deflated-PCG iterations, " +
+           std::to_string(e.cost_seconds).substr(0, 5) + " s): " + percent(e.max_error()) + " at most (tolerance " +
+           percent(s.frf_tolerance) + ")");
+  for (int p = 0; p < static_cast<int>(e.points.size()); ++p) {
+    const auto [worst, at] = e.point_max(p);
+    log.detail("  " + e.points[p] + ": " + percent(worst) + " at most, at " + hz(at));
+  }
+  if (e.max_error() > s.frf_tolerance)
+    log.warning("the reduced model's receptance error " + percent(e.max_error()) + " exceeds frf_tolerance " +
+                percent(s.frf_tolerance) + " in the band: raise fmax (or modes), or add residual modes");
+}
+
+/// The cut-off the band starts from, and the largest it may reach, as multiples of the band.
+constexpr double kFirstCutoff = 1.5;
+constexpr double kLastCutoff = 10.0;
+
+}  // namespace
+
+ReducedModel reduce(ReductionInput& in, const Logger& log) {
+  if (in.lower_triangles && in.settings.method != ReductionMethod::kModal)
+    throw Error("internal: only the modal reduction works on lower triangles");
+  const ReductionSettings settings = in.settings;
+  const bool choose = settings.band_hz > 0.0 && settings.fmax_hz <= 0.0 && settings.modes <= 0 &&
+                      settings.method != ReductionMethod::kGuyan;
+  if (!choose) {
+    ReducedModel r = reduce_once(in, log);
+    r.cutoff_hz = settings.fmax_hz;
+    report_error(r, settings, log);
+    return r;
+  }
+  // Choose the cut-off: from 1.5 band up, each pass predicting the next from the estimate, the
+  // truncation error falling about as (band / cut-off)^2 (the first neglected mode's quasi-static term).
+  // The modal reduction consumes K and M: keep them for the passes after the first.
+  const bool consumed = settings.method == ReductionMethod::kModal;
+  SparseMatrix K0, M0;
+  if (consumed) {
+    K0 = in.stiffness;
+    M0 = in.mass;
+  }
+  double cutoff = kFirstCutoff * settings.band_hz;
+  std::vector<std::pair<double, double>> passes;
+  for (int pass = 1;; ++pass) {
+    if (consumed && pass > 1) {
+      in.stiffness = K0;
+      in.mass = M0;
+    }
+    in.settings.fmax_hz = cutoff;
+    in.settings.where = settings.band_where;
+    in.settings.where_key = "reduction.band";
+    ReducedModel r = reduce_once(in, log);
+    const double error = r.frf_error.max_error();
+    passes.emplace_back(cutoff, error);
+    log.info("band " + hz(settings.band_hz) + ", pass " + std::to_string(pass) + ": cut-off " + hz(cutoff) +
+             " (" + std::to_string(r.coordinates.size()) + " coordinates), estimated error " + percent(error));
+    const bool last = cutoff >= kLastCutoff * settings.band_hz * (1.0 - 1e-12);
+    if (error <= settings.frf_tolerance || last) {
+      r.cutoff_hz = cutoff;
+      r.cutoff_passes = passes;
+        in.settings = settings;
+      report_error(r, settings, log);
+      return r;
+    }
+    const double factor = std::clamp(1.1 * std::sqrt(error / settings.frf_tolerance), 1.25, 3.0);
+    cutoff = std::min(cutoff * factor, kLastCutoff * settings.band_hz);
+  }
 }
 
 }  // namespace nvh::condense

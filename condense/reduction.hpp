@@ -21,6 +21,7 @@
 #include "common/log.hpp"
 #include "condense/component.hpp"
 #include "condense/eigensolver.hpp"
+#include "condense/frf_error.hpp"
 
 namespace nvh::condense {
 
@@ -39,6 +40,8 @@ struct ReductionInput {
   EigenBackend backend = EigenBackend::kSpectra;
   EigenProgress progress;               ///< optional, handed to the eigen-solves
   Ordering ordering = Ordering::kAuto;  ///< fill-reducing ordering of every factorization
+  /// Length l that scales rotations in the error estimate (frf_error.hpp), m: the model's size.
+  double length_scale = 1.0;
 };
 
 struct ReducedModel {
@@ -65,6 +68,12 @@ struct ReducedModel {
   double eigen_seconds = 0.0;
   /// Solves with the factorization in the eigen-solves (each streams the whole factor).
   int eigen_solves = 0;
+  /// With settings.band_hz: the estimated receptance error at the interfaces in the band.
+  FrfErrorEstimate frf_error;
+  /// The cut-off of the kept modes, Hz: fmax as given or chosen from the band (0: a count was given).
+  double cutoff_hz = 0.0;
+  /// With the band and no count: the cut-offs tried (Hz) and their estimated errors, in order.
+  std::vector<std::pair<double, double>> cutoff_passes;
 };
 
 /// nvh::Error when fmax lies below the first (elastic or fixed-interface) mode, the interior is not

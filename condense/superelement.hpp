@@ -8,6 +8,7 @@
 
 #include "common/provenance.hpp"
 #include "common/superelement.hpp"
+#include "condense/frf_error.hpp"
 #include "condense/invariants.hpp"
 
 namespace nvh::condense {
@@ -42,11 +43,25 @@ struct ModelRecord {
   int eigen_solves = 0;         ///< solves with the factorization in the Lanczos iterations
 };
 
+/// The error estimate of the reduction in the band (frf_error.hpp) and how the cut-off was chosen, for
+/// /reduction_error (docs/hdf5-format.md). Empty without a band.
+struct ReductionErrorRecord {
+  FrfErrorEstimate estimate;
+  double tolerance = 0.0;  ///< frf_tolerance
+  double cutoff_hz = 0.0;  ///< the cut-off used (0: a count of modes was given)
+  std::vector<std::pair<double, double>> passes;  ///< cut-offs tried (Hz) and their errors
+};
+
 /// The file's contents and condense's record of the run that made them.
-struct Superelement : SuperelementFile, ModelRecord {};
+struct Superelement : SuperelementFile, ModelRecord {
+  ReductionErrorRecord reduction_error;
+};
 
 /// Write the /model group's attributes of `record` into `root`.
 void write_model_record(h5::Group& root, const ModelRecord& record);
+
+/// Write /reduction_error into `root` (nothing when the record is empty).
+void write_reduction_error(h5::Group& root, const ReductionErrorRecord& record);
 
 /// Write to `path` through common's writer (a temporary file renamed when complete), with /model.
 void write_superelement(const std::filesystem::path& path, const Superelement& se,

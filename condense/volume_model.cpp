@@ -211,15 +211,18 @@ double shear_wave_speed(const Material& m) {
 double mesh_size(const Component& c) {
   const VolumeGeometry& v = c.volume;
   if (v.elements_per_wavelength <= 0.0) return v.size;
-  // The shortest wavelength of interest is the shear wavelength c_s / fmax, c_s = sqrt(G / rho).
-  if (c.reduction.fmax_hz <= 0.0) {
-    throw Error("elements_per_wavelength needs reduction.fmax (the size follows the frequency range)",
+  // The shortest wavelength of interest is the shear wavelength c_s / fmax, c_s = sqrt(G / rho). With a
+  // band and no fmax, fmax is taken as 3 x band, the middle of the usual Craig-Bampton cut-offs.
+  const double fmax = c.reduction.fmax_hz > 0.0 ? c.reduction.fmax_hz : 3.0 * c.reduction.band_hz;
+  if (fmax <= 0.0) {
+    throw Error("elements_per_wavelength needs reduction.fmax or reduction.band (the size follows the "
+                "frequency range)",
                 v.where, "volume.elements_per_wavelength");
   }
   // With regions, the slowest of the materials sets the size (the mesh is not known yet).
   double c_s = shear_wave_speed(c.materials.at(v.material));
   for (const MaterialRegion& r : v.regions) c_s = std::min(c_s, shear_wave_speed(c.materials.at(r.material)));
-  return c_s / c.reduction.fmax_hz / v.elements_per_wavelength;
+  return c_s / fmax / v.elements_per_wavelength;
 }
 
 }  // namespace

@@ -242,7 +242,7 @@ TEST_F(CondenseCli, OverridingGuyanWithoutACountIsAClearError) {
   fs::remove(output());
   const CliRun run = run_condense(guyan, "--method modal");
   EXPECT_EQ(run.exit_code, 1) << run.output;
-  EXPECT_NE(run.output.find("needs fmax (Hz) or modes"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("fmax (Hz) or modes (a count)"), std::string::npos) << run.output;
   EXPECT_TRUE(directory_holds_only_the_input());
 }
 
