@@ -11,6 +11,8 @@
 namespace nvh::condense {
 namespace {
 constexpr double kPi = 3.14159265358979323846;
+/// Two resonances closer than this ratio get no sample between them (frf_sample_frequencies).
+constexpr double kCloseResonances = 1.05;
 }  // namespace
 
 double FrfErrorEstimate::max_error() const {
@@ -35,8 +37,15 @@ std::vector<double> frf_sample_frequencies(double band_hz, const Eigen::VectorXd
   std::vector<double> samples;
   for (std::size_t i = 0; i + 1 < edges.size(); ++i) {
     const double a = edges[i], b = edges[i + 1];
+    // Closely spaced resonances (or the band's edge just above one): no frequency between them lies
+    // more than 2.5 % from both, where the receptance is the resonant modes' alone.
+    if (a > 0.0 && b < kCloseResonances * a) continue;
     const int n = std::max(1, static_cast<int>(std::lround(count * (b - a) / band_hz)));
-    for (int j = 0; j < n; ++j) samples.push_back(a + (b - a) * (j + 0.5) / n);
+    for (int j = 0; j < n; ++j) {
+      // Equal steps below the first resonance, equal ratios between two (each sample as far from its
+      // neighbouring resonances, relatively, as the others).
+      samples.push_back(a == 0.0 ? b * (j + 0.5) / n : a * std::pow(b / a, (j + 0.5) / n));
+    }
   }
   return samples;
 }

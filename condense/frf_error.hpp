@@ -48,9 +48,12 @@ struct FrfErrorEstimate {
   std::pair<double, double> point_max(int p) const;
 };
 
-/// `count` frequencies in (0, band], none at a resonance: the band is cut at the resonances below it into
-/// intervals, each interval gets samples in proportion to its width (at least one), placed at the centres
-/// of equal sub-intervals, so the nearest resonance is half a sub-interval away. Hz in, Hz out, ascending.
+/// About `count` frequencies in (0, band), none near a resonance: the band is cut at the resonances below
+/// it into intervals, each interval gets samples in proportion to its width (at least one), at equal steps
+/// below the first resonance and at equal ratios between two, so every sample lies half a step (or half a
+/// ratio) from its nearest resonance. Intervals narrower than 5 % (close pairs of modes, the band's edge
+/// just above a resonance) get none: there the receptance is the resonant modes' alone and its error
+/// that of their frequencies. Hz in, Hz out, ascending.
 std::vector<double> frf_sample_frequencies(double band_hz, const Eigen::VectorXd& resonances_hz, int count);
 
 /// Solves (A - w^2 B) X = R by spectral deflation (see the file comment). A and B symmetric, whole or as

@@ -85,10 +85,11 @@ int tip_node(const Component& c) {
 }
 
 TEST(FrfError, SampleFrequenciesAvoidResonances) {
-  Eigen::VectorXd resonances(3);
-  resonances << 100.0, 400.0, 2000.0;  // the last above the band
+  Eigen::VectorXd resonances(4);
+  resonances << 100.0, 400.0, 410.0, 2000.0;  // a close pair, and one above the band
   const std::vector<double> f = frf_sample_frequencies(1000.0, resonances, 10);
-  // Intervals 0-100 (1 sample), 100-400 (3), 400-1000 (6): 10 samples, ascending, inside (0, band).
+  // Intervals 0-100 (1 sample, at 50 Hz), 100-400 (3, equal ratios), 400-410 (none: closer than 5 %),
+  // 410-1000 (6, equal ratios up to 1000 / (1000/410)^(1/12)).
   ASSERT_EQ(f.size(), 10u);
   for (std::size_t i = 0; i < f.size(); ++i) {
     EXPECT_GT(f[i], 0.0);
@@ -96,10 +97,11 @@ TEST(FrfError, SampleFrequenciesAvoidResonances) {
     if (i) {
       EXPECT_GT(f[i], f[i - 1]);
     }
-    for (int k = 0; k < 2; ++k) EXPECT_GT(std::abs(f[i] - resonances(k)), 40.0) << f[i];
+    for (int k = 0; k < 3; ++k) EXPECT_GT(std::abs(f[i] / resonances(k) - 1.0), 0.07) << f[i];
   }
   EXPECT_DOUBLE_EQ(f[0], 50.0);
-  EXPECT_DOUBLE_EQ(f.back(), 950.0);
+  EXPECT_NEAR(f[2], 200.0, 1e-9);  // 100 * 4^(1/2)
+  EXPECT_NEAR(f.back(), 1000.0 / std::pow(1000.0 / 410.0, 1.0 / 12.0), 1e-9);
 }
 
 // The deflated solve of (K - w^2 M) X = R on a free-free bar (rigid modes in the deflation) between its
