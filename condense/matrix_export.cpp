@@ -194,39 +194,38 @@ void check_symmetric(const ExportedMatrix& m) {
 void write_header(std::ostream& out, const SuperelementFile& se, const NastranExportOptions& options,
                   const NastranLayout& layout, const std::vector<ExportedMatrix>& matrices) {
   const int n = se.size();
-  out << "$ Nastran bulk data: the reduced matrices of superelement \"" << comment_safe(se.name)
-      << "\" as DMIG entries\n";
-  out << "$ written by " << (options.tool_version.empty() ? "condense" : options.tool_version)
-      << " (condense export --format nastran)";
-  if (!options.source.empty()) out << " from " << comment_safe(options.source);
+  // Fixed text within 80 columns (the QRG's card image); names and paths may make a line longer.
+  out << "$ Nastran bulk data: the reduced matrices of a superelement as DMIG entries\n";
+  out << "$   superelement \"" << comment_safe(se.name) << "\"";
+  if (!options.source.empty()) out << ", file " << comment_safe(options.source);
   out << "\n";
-  if (!options.source_sha256.empty()) out << "$   sha256 of the source: " << options.source_sha256 << "\n";
-  out << "$ layout: docs/matrix-export.md; cards per the Nastran Quick Reference Guide (DMIG, GRID, "
-         "SPOINT),\n"
-         "$   large-field format (16-character fields), reals with the D exponent (double precision)\n";
-  out << "$ units: SI (kg, m, s, N, rad). Each matrix entry has the units of its two coordinates:\n"
-         "$   interface translation [m], rotation [rad]: K in N/m, N m/rad; M in kg, kg m^2; B in N s/m, N m "
-         "s/rad\n"
-         "$   modal coordinate [sqrt(kg) m]: K in rad^2/s^2, M dimensionless, B in 1/s; mixed entries: "
-         "products\n";
-  out << "$ basic coordinate system = the component frame of the superelement; positions in m\n";
-  out << "$ method " << se.method << (se.orthonormalized ? ", orthonormalized basis" : ", raw basis") << ", "
-      << n << " coordinates; rigid-body modes " << se.rigid_body_modes_contained << " contained in (K, M), "
-      << se.rigid_body_modes_removed << " removed (left to the floating frame)\n";
-  out << "$ matrices (symmetric IFO = 6, real double precision TIN = 2, upper triangle, exact zeros "
-         "omitted):\n";
+  if (!options.source_sha256.empty()) out << "$   sha256 " << options.source_sha256 << "\n";
+  out << "$   written by " << (options.tool_version.empty() ? "condense" : options.tool_version)
+      << " (condense export --format nastran)\n";
+  out << "$ layout: docs/matrix-export.md; cards per the Nastran Quick Reference Guide\n"
+         "$   (DMIG, GRID, SPOINT), large-field format, reals with D exponents (double)\n";
+  out << "$ units: SI (kg, m, s, N, rad); an entry has the units of its two coordinates:\n"
+         "$   interface translation [m], rotation [rad]: K in N/m, N m/rad;\n"
+         "$     M in kg, kg m^2; B in N s/m, N m s/rad\n"
+         "$   mass-normalized mode [sqrt(kg) m]: K in rad^2/s^2, M in 1, B in 1/s\n"
+         "$   mixed entries: the products\n";
+  out << "$ basic coordinate system = the component frame; positions in m\n";
+  out << "$ method " << se.method << (se.orthonormalized ? ", orthonormalized" : ", raw basis") << ", " << n
+      << " coordinates\n";
+  out << "$   rigid-body modes: " << se.rigid_body_modes_contained << " contained in (K, M), "
+      << se.rigid_body_modes_removed << " removed (floating frame)\n";
+  out << "$ matrices: symmetric (IFO 6), real double (TIN 2), upper triangle, no zeros\n";
   for (const ExportedMatrix& m : matrices) out << "$   " << left(m.name, 8) << " " << m.description << "\n";
-  out << "$ to use them in Nastran: INCLUDE this file in the bulk data and select in case control\n$  ";
+  out << "$ to use them in Nastran: INCLUDE this file in the bulk data; case control:\n";
   for (const ExportedMatrix& m : matrices) {
-    if (m.name[0] == 'K') out << " K2GG = " << m.name;
-    if (m.name[0] == 'M') out << " M2GG = " << m.name;
-    if (m.name[0] == 'B') out << " B2GG = " << m.name;
+    if (m.name[0] == 'K') out << "$   K2GG = " << m.name << "\n";
+    if (m.name[0] == 'M') out << "$   M2GG = " << m.name << "\n";
+    if (m.name[0] == 'B') out << "$   B2GG = " << m.name << "\n";
   }
-  out << "\n";
-  if (!options.grid_cards)
-    out << "$ GRID and SPOINT entries are not written (--no-grid-cards): the deck defines them\n";
+  if (!options.grid_cards) out << "$ no GRID and SPOINT entries (--no-grid-cards): the deck defines them\n";
 
-  out << "$ interfaces (/interface/name): GRID id, position of the node whose DOF they are [m], components\n";
+  out << "$ interfaces (/interface/name): GRID id, position [m] of the node whose DOF\n"
+         "$   they are, components\n";
   std::set<std::string> gridded;
   for (const NastranGrid& g : layout.grids) {
     gridded.insert(g.interface);
@@ -236,10 +235,10 @@ void write_header(std::ostream& out, const SuperelementFile& se, const NastranEx
   }
   for (const std::string& name : se.interfaces.names) {
     if (gridded.contains(name)) continue;
-    out << "$   " << left(comment_safe(name), 16) << " no coordinates of its own"
+    out << "$   " << left(comment_safe(name), 16) << " no GRID: "
         << (se.orthonormalized || se.method == "modal"
-                ? " (modal basis: its motion is /interface/shape in the .h5)"
-                : " (its DOF are supported, or are those of an earlier interface on the same node)")
+                ? "modal basis (motion in /interface/shape)"
+                : "no coordinates (supported, or an earlier one's node)")
         << "\n";
   }
   out << "$ coordinates (q_j, /reduced/coordinates) -> DOF:\n";
@@ -368,9 +367,9 @@ std::vector<ExportedMatrix> exported_matrices(const SuperelementFile& se, const 
     std::string name = "G";
     name += upper(product);
     name += suffix;
-    std::string what = "geometric stiffness per (rad/s)^2 of omega_";
-    what +=
-        product.substr(0, 1) + " omega_" + product.substr(1, 1) + ", /reduced/geometric_stiffness/" + product;
+    std::string what = "K_G of w_";
+    what += product.substr(0, 1) + " w_" + product.substr(1, 1) +
+            " per (rad/s)^2, /reduced/geometric_stiffness/" + product;
     m.push_back({name, what, &se.geometric_stiffness[p]});
   }
   return m;
