@@ -5,6 +5,7 @@
 #include <iostream>
 #include <memory>
 #include <sstream>
+#include <string_view>
 
 #include "common/blas_kernels.hpp"
 #include "common/error.hpp"
@@ -17,6 +18,7 @@
 #include "common/version.hpp"
 #include "condense/component_reader.hpp"
 #include "condense/condense.hpp"
+#include "condense/export_command.hpp"
 
 namespace {
 
@@ -53,6 +55,10 @@ Example:
   condense testdata/crankshaft.toml -o crankshaft.h5
   condense testdata/crankshaft.toml -o crank_modal.h5 --method modal --fmax 3000
   h5dump -H crankshaft.h5
+
+condense export SUPERELEMENT.h5 -o OUT.pch writes the reduced matrices of a superelement file as Nastran
+DMIG bulk data for other programs (GRID ids for interface DOF, SPOINTs for modes; SI units); see
+condense export --help and docs/matrix-export.md.
 
 Exit codes: 0 success; 1 bad input or failed run (message names file, line, key); 2 bad command line;
 3 interrupted (SIGINT/SIGTERM: the temporary output is removed, nothing is left half-written).)";
@@ -98,6 +104,8 @@ int main(int argc, char** argv) {
 
   select_blas_kernels(argv);  // may re-execute condense with OpenBLAS's right kernels (blas_kernels.hpp)
   install_interrupt_handler("condense");
+  // `condense export ...`: the superelement file written for another program (export_command.hpp).
+  if (argc > 1 && std::string_view(argv[1]) == "export") return run_export_command(argc - 1, argv + 1);
   CLI::App app{kDescription, "condense"};
   app.get_formatter()->column_width(34);
   std::string component_file, output_file, method, eigensolver = "spectra";
