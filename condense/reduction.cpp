@@ -503,6 +503,13 @@ ReducedModel reduce_once(ReductionInput& in, const Logger& log) {
   throw Error("unknown reduction method");
 }
 
+std::string seconds(double t) {
+  std::ostringstream s;
+  s.precision(3);
+  s << t << " s";
+  return s.str();
+}
+
 std::string percent(double x) {
   std::ostringstream s;
   s.precision(3);
@@ -518,7 +525,7 @@ void report_error(const ReducedModel& r, const ReductionSettings& s, const Logge
   log.info("receptance error at the interfaces in 0 .. " + hz(s.band_hz) + " (" +
            std::to_string(e.frequency_hz.size()) + " frequencies, " + std::to_string(e.solver_iterations) +
            " deflated-PCG iterations, " +
-           std::to_string(e.cost_seconds).substr(0, 5) + " s): " + percent(e.max_error()) + " at most (tolerance " +
+           seconds(e.cost_seconds) + "): " + percent(e.max_error()) + " at most (tolerance " +
            percent(s.frf_tolerance) + ")");
   for (int p = 0; p < static_cast<int>(e.points.size()); ++p) {
     const auto [worst, at] = e.point_max(p);
