@@ -53,20 +53,38 @@ std::vector<double> frf_sample_frequencies(double band_hz, const Eigen::VectorXd
 DeflatedShiftedSolver::DeflatedShiftedSolver(const SparseMatrix& a, const SparseMatrix& b, bool lower,
                                              const Eigen::MatrixXd& phi, const Eigen::VectorXd& lambda,
                                              double bound, const SparseCholesky& preconditioner)
-    : a_(a),
-      b_(b),
-      lower_(lower),
-      phi_(phi),
+    : phi_(phi),
       lambda_(lambda),
       b_phi_(phi.cols() ? symmetric_times(b, lower, phi) : Eigen::MatrixXd(b.rows(), 0)),
       bound_(bound),
-      preconditioner_(preconditioner) {}
+      preconditioner_(preconditioner) {
+  if (lower) {
+    a_rows_ = RowMajorSparse(SparseMatrix(a.selfadjointView<Eigen::Lower>()));
+    b_rows_ = RowMajorSparse(SparseMatrix(b.selfadjointView<Eigen::Lower>()));
+  } else {
+    a_rows_ = RowMajorSparse(a);
+    b_rows_ = RowMajorSparse(b);
+  }
+}
 
 Eigen::MatrixXd DeflatedShiftedSolver::solve(double omega2, const Eigen::MatrixXd& rhs, double tolerance) {
-  if (!(omega2 < bound_)) throw Error("internal: deflated solve at or above the bound of its modes");
+  return solve(Eigen::VectorXd::Constant(rhs.cols(), omega2), rhs, tolerance);
+}
+
+Eigen::MatrixXd DeflatedShiftedSolver::solve(const Eigen::VectorXd& omega2, const Eigen::MatrixXd& rhs,
+                                             double tolerance) {
   const Eigen::Index n = rhs.rows(), p = rhs.cols();
+  if (omega2.size() != p) throw Error("internal: one w^2 per right-hand side");
+  if (p == 0) return Eigen::MatrixXd(n, 0);
+  if (!(omega2.maxCoeff() < bound_))
+    throw Error("internal: deflated solve at or above the bound of its modes");
+  auto hz = [](double w2) { return std::sqrt(w2) / (2.0 * kPi); };
+  // (A - w_j^2 B) x_j for every column j at once.
   auto apply = [&](const Eigen::MatrixXd& x) -> Eigen::MatrixXd {
-    return symmetric_times(a_, lower_, x) - omega2 * symmetric_times(b_, lower_, x);
+    const RowMajorDense xr = x;
+    RowMajorDense ax = a_rows_ * xr;
+    ax -= (b_rows_ * xr) * omega2.asDiagonal();
+    return ax;
   };
   // Q^T r = r - B Phi Phi^T r (onto the range of the complement) and Q z = z - Phi (B Phi)^T z.
   auto project_dual = [&](Eigen::MatrixXd& r) {
@@ -75,11 +93,14 @@ Eigen::MatrixXd DeflatedShiftedSolver::solve(double omega2, const Eigen::MatrixX
   auto project_primal = [&](Eigen::MatrixXd& z) {
     if (phi_.cols()) z -= phi_ * (b_phi_.transpose() * z);
   };
-  // The deflated part: Phi (Lambda - w^2)^-1 Phi^T R.
+  // The deflated part: Phi (Lambda - w_j^2)^-1 Phi^T r_j.
   Eigen::MatrixXd x = Eigen::MatrixXd::Zero(n, p);
   if (phi_.cols()) {
-    const Eigen::VectorXd inverse = (lambda_.array() - omega2).inverse().matrix();
-    x = phi_ * (inverse.asDiagonal() * (phi_.transpose() * rhs));
+    const Eigen::MatrixXd modal = phi_.transpose() * rhs;  // m x p
+    Eigen::MatrixXd scaled(modal.rows(), p);
+    for (Eigen::Index j = 0; j < p; ++j)
+      scaled.col(j) = modal.col(j).cwiseQuotient((lambda_.array() - omega2(j)).matrix());
+    x = phi_ * scaled;
   }
   // The complement: block PCG, one scalar recurrence per column, all solves in one multi-RHS call.
   Eigen::MatrixXd r = rhs;
@@ -100,7 +121,7 @@ Eigen::MatrixXd DeflatedShiftedSolver::solve(double omega2, const Eigen::MatrixX
     if (iterations_ == max_iterations) {
       std::ostringstream s;
       s << "the full-model solve of the error estimate did not converge in " << max_iterations
-        << " iterations at " << std::sqrt(omega2) / (2.0 * kPi) << " Hz";
+        << " iterations at " << hz(omega2.maxCoeff()) << " Hz";
       throw Error(s.str());
     }
     ++iterations_;
@@ -110,7 +131,7 @@ Eigen::MatrixXd DeflatedShiftedSolver::solve(double omega2, const Eigen::MatrixX
       const double dq = d.col(j).dot(q.col(j));
       if (!(dq > 0.0)) {
         std::ostringstream s;
-        s << "the full-model solve of the error estimate met a mode below " << std::sqrt(omega2) / (2.0 * kPi)
+        s << "the full-model solve of the error estimate met a mode below " << hz(omega2(j))
           << " Hz that the deflation lacks (K - w^2 M not positive definite on its complement)";
         throw Error(s.str());
       }

@@ -74,6 +74,30 @@ Eigen::MatrixXd modal_receptance(const Eigen::MatrixXd& phi, const Eigen::Vector
   return phi * inverse.asDiagonal() * phi.transpose();
 }
 
+/// The deflated solves of all samples, several frequencies per block (at most 256 right-hand sides): the
+/// right-hand side of sample k (nb columns) is filled by rhs(w_k^2, block); the solutions in sample order.
+/// `iterations` gets the sum over the blocks of their iterations.
+template <class FillRhs>
+std::vector<Eigen::MatrixXd> solve_in_blocks(DeflatedShiftedSolver& solver, const std::vector<double>& samples,
+                                             int nb, FillRhs rhs, int* iterations) {
+  const int per_block = std::max(1, 256 / std::max(nb, 1));
+  std::vector<Eigen::MatrixXd> out;
+  for (std::size_t first = 0; first < samples.size(); first += per_block) {
+    const int count = static_cast<int>(std::min<std::size_t>(per_block, samples.size() - first));
+    Eigen::MatrixXd block(solver.rows(), count * nb);
+    Eigen::VectorXd w2(count * nb);
+    for (int k = 0; k < count; ++k) {
+      const double omega2 = square(kTwoPi * samples[first + k]);
+      w2.segment(k * nb, nb).setConstant(omega2);
+      rhs(omega2, block.middleCols(k * nb, nb));
+    }
+    const Eigen::MatrixXd x = solver.solve(w2, block);
+    *iterations += solver.iterations();
+    for (int k = 0; k < count; ++k) out.push_back(x.middleCols(k * nb, nb));
+  }
+  return out;
+}
+
 /// The error estimate of a modal reduction (frf_error.hpp): the full model's receptance at the interface
 /// DOF from deflated solves with its own modes `eig` (rigid ones first), against r's (rigid-body part
 /// exact in both). K and M as the reduction had them.
@@ -114,10 +138,11 @@ FrfErrorEstimate modal_frf_error(const SparseMatrix& K, const SparseMatrix& M, c
   const std::vector<double> samples = frf_sample_frequencies(s.band_hz, r.frequency_hz, s.error_samples);
   std::vector<Eigen::MatrixXd> full, reduced, rigid_part;
   int iterations = 0;
-  for (double f : samples) {
-    const double w2 = square(kTwoPi * f);
-    const Eigen::MatrixXd g = rows_of(solver.solve(w2, unit), in.boundary_dofs);
-    iterations += solver.iterations();
+  const std::vector<Eigen::MatrixXd> solved = solve_in_blocks(
+      solver, samples, nb, [&](double, Eigen::Ref<Eigen::MatrixXd> rhs) { rhs = unit; }, &iterations);
+  for (std::size_t k = 0; k < samples.size(); ++k) {
+    const double w2 = square(kTwoPi * samples[k]);
+    const Eigen::MatrixXd g = rows_of(solved[k], in.boundary_dofs);
     full.push_back(0.5 * (g + g.transpose()));
     rigid_part.push_back(modal_receptance(rigid_b, lambda_rigid, w2));
     reduced.push_back(rigid_part.back() + modal_receptance(basis_b, lambda_r, w2));
@@ -334,11 +359,14 @@ FrfErrorEstimate craig_bampton_frf_error(const ReductionInput& in, const std::ve
   const std::vector<double> samples = frf_sample_frequencies(s.band_hz, resonances, s.error_samples);
   std::vector<Eigen::MatrixXd> full, reduced, rigid_part;
   int iterations = 0;
-  for (double f : samples) {
-    const double w2 = square(kTwoPi * f);
+  // D_ii^-1 (-D_ib) at every sample.
+  const std::vector<Eigen::MatrixXd> solved = solve_in_blocks(
+      solver, samples, nb,
+      [&](double w2, Eigen::Ref<Eigen::MatrixXd> rhs) { rhs = -Eigen::MatrixXd(Kib - w2 * Mib); }, &iterations);
+  for (std::size_t k = 0; k < samples.size(); ++k) {
+    const double w2 = square(kTwoPi * samples[k]);
     const SparseMatrix Dib = Kib - w2 * Mib;
-    const Eigen::MatrixXd x = solver.solve(w2, -Eigen::MatrixXd(Dib));  // D_ii^-1 (-D_ib)
-    iterations += solver.iterations();
+    const Eigen::MatrixXd& x = solved[k];
     Eigen::MatrixXd schur = Kbb - w2 * Mbb + Eigen::MatrixXd(Dib.transpose() * x);
     schur = 0.5 * (schur + schur.transpose()).eval();
     const Eigen::MatrixXd g = schur.fullPivLu().inverse();
