@@ -145,7 +145,7 @@ void FilmSolver::assemble(const Eigen::VectorXd& P, const Eigen::VectorXd& r, bo
   const double barus = linear ? 0.0 : f.barus;
   const double dx = f.dx, dz = f.dz, C = f.couette;
   a.M.setZero(n);
-  a.side_flow = a.west_flow = a.east_flow = 0;
+  a.side_flow = a.west_flow = a.east_flow = a.squeeze_flow = 0;
   if (jacobian) {
     a.JP.assign(n, {0, 0, 0, 0, 0});
     a.JR.assign(n, {0, 0, 0, 0, 0});
@@ -248,13 +248,17 @@ void FilmSolver::assemble(const Eigen::VectorXd& P, const Eigen::VectorXd& r, bo
         if (jacobian) a.JP[s][kSelf] += edges * (g + H3 * dfluidity(P[s]) * P[s]) / (0.5 * dz) * dx;
       }
     }
-    // Squeeze (quasi-steady: (1 - r) dH/dtau) and the Swift-Stieber mass source.
+    // Squeeze (quasi-steady: (1 - r) dH/dtau; with closing_film_full, dH/dtau where the film closes) and the
+    // Swift-Stieber mass source.
     for (int i = 0; i < nx; ++i) {
       const int m = row + i;
-      a.M[m] += (jfo ? 1 - r[m] : 1.0) * hdot[i] * area;
+      const bool fill_weighted = jfo && !(f.closing_film_full && hdot[i] < 0);
+      const double squeeze = (fill_weighted ? 1 - r[m] : 1.0) * hdot[i] * area;
+      a.M[m] += squeeze;
+      a.squeeze_flow += squeeze;
       if (ss) a.M[m] -= r[m] * area;
       if (!jacobian) continue;
-      if (jfo) a.JR[m][kSelf] -= hdot[i] * area;
+      if (fill_weighted) a.JR[m][kSelf] -= hdot[i] * area;
       if (ss) a.JR[m][kSelf] -= area;
     }
   }

@@ -11,7 +11,8 @@
 // fill ratio (Elrod 1981; Vijayaraghavan and Keith 1989):
 //   sum over faces [ -G / mu_r dP/dn + C H_f (1 - r)_upwind n_x ] + (1 - r) dH/dtau A = 0
 // G: the Poiseuille conductance of the face (H^3 for a smooth film), H_f: the film that carries the Couette
-// flux, C: the mean surface speed (sign = direction), mu_r = exp(alpha P) (Barus, 1 below ambient).
+// flux, C: the mean surface speed (sign = direction), mu_r = exp(alpha P) (Barus, 1 below ambient). With
+// closing_film_full (the piston skirt) a cell whose film closes takes dH/dtau A instead of (1 - r) dH/dtau A.
 // Boundaries: along x either periodic (journal) or a given pressure half a cell beyond the end cells, with
 // a film of a given fill ratio (1: fully flooded; JFO) entering from outside; across, optionally P = 0 half a
 // cell beyond both edges, or periodic (a full circle across, the piston skirt: skirt_film.hpp).
@@ -79,6 +80,11 @@ struct FilmProblem {
   /// west end (couette >= 0) or the east end (couette < 0); < 1 is a starved (partly flooded) inlet. The
   /// other models keep a full film (fill 1).
   double fill_west = 1, fill_east = 1;
+  /// JFO: a cell whose film closes (dH/dtau < 0) takes the squeeze term dH/dtau whatever its fill ratio (the
+  /// closing gap taken as full, a cavitated cell then has to be fed or pressurize), instead of (1 - r)
+  /// dH/dtau. Opening cells keep (1 - r) dH/dtau. Off: the journal bearing's closure. See docs/bearing.md
+  /// section 14.
+  bool closing_film_full = false;
 
   // Per-cell coefficients (optional): each one, when not empty, replaces its per-column vector above.
   std::vector<double> g_east_cells;  ///< nx nz: conductance of the east face of cell m (x = x_i + dx/2)
@@ -103,6 +109,7 @@ struct FilmAssembly {
   double side_flow = 0;                   ///< out through both edges across (z_edges)
   double west_flow = 0;                   ///< along +x through the west end (not periodic)
   double east_flow = 0;                   ///< along +x through the east end (not periodic)
+  double squeeze_flow = 0;                ///< the squeeze terms' sum: the rate of the film's stored volume
 };
 
 class FilmSolver {
