@@ -151,6 +151,7 @@ SkirtFilm::SkirtFilm(SkirtSpec spec, FiniteSolverOptions options)
     f.cavitation = spec_.cavitation;
     f.fill_west = spec_.fill_bottom;
     f.fill_east = spec_.fill_top;
+    f.closing_film_full = true;
     for (auto* v : {&f.g_east_cells, &f.h_east_cells, &f.g_north_cells, &f.h_centre_cells, &f.hdot_cells})
       v->assign(n, 0.0);
     f.g_west_rows.assign(nz_, 0.0), f.h_west_rows.assign(nz_, 0.0);
@@ -294,7 +295,6 @@ SkirtResult SkirtFilm::post_process(const SkirtKinematics& k) {
         out.moment += (p * y_c_[i] + R * tau) * cs * dA;
         out.friction_force += tau * dA;
         lateral_power -= p * cs * e_dot_at(y_c_[i]) * dA;
-        out.stored_flow += fill * f.hdot_cells[m] * f.dx * f.dz;
         if (p > out.max_pressure) {
           out.max_pressure = p;
           out.max_pressure_angle = std::remainder(arc.start + (kz + 0.5) * dtheta, 2 * kPi);
@@ -306,6 +306,7 @@ SkirtResult SkirtFilm::post_process(const SkirtKinematics& k) {
     out.flow_bottom += arc.fluxes.west_flow;
     out.flow_top -= arc.fluxes.east_flow;
     out.flow_sides += arc.fluxes.side_flow;
+    out.stored_flow += arc.fluxes.squeeze_flow;
   }
   out.flow_bottom *= flow_scale, out.flow_top *= flow_scale, out.flow_sides *= flow_scale;
   out.stored_flow *= flow_scale;
