@@ -82,15 +82,42 @@ FilmSolver::FilmSolver(FilmSolver&&) noexcept = default;
 FilmSolver& FilmSolver::operator=(FilmSolver&&) noexcept = default;
 FilmSolver::~FilmSolver() = default;
 
+void FilmSolver::check_problem() const {
+  const FilmProblem& f = problem;
+  const std::size_t nx = f.nx > 0 ? f.nx : 0, n = f.nx > 0 && f.nz > 0 ? std::size_t(f.nx) * f.nz : 0;
+  auto bad = [](const std::string& what) { throw Error("film solver: " + what); };
+  if (f.nx < 1 || f.nz < 1 || !(f.dx > 0) || !(f.dz > 0)) bad("the grid needs nx, nz >= 1 and dx, dz > 0");
+  if (f.periodic_x && f.nx < 3) bad("periodic_x needs nx >= 3");
+  if (f.periodic_z && (f.z_edges || f.nz < 3)) bad("periodic_z needs nz >= 3 and no z_edges");
+  if (f.supply.size() != n) bad("'supply' needs nx nz entries");
+  auto sized = [&](const std::vector<double>& cells, const std::vector<double>& columns, const char* name) {
+    if (cells.empty() ? columns.size() != nx : cells.size() != n)
+      bad(std::string("'") + name + "' needs nx entries per column or nx nz per cell");
+  };
+  sized(f.g_east_cells, f.g_east, "g_east");
+  sized(f.h_east_cells, f.h_east, "h_east");
+  sized(f.h_centre_cells, f.h_centre, "h_centre");
+  sized(f.hdot_cells, f.hdot, "hdot");
+  if (!f.g_north_cells.empty() && f.g_north_cells.size() != n) bad("'g_north_cells' needs nx nz entries");
+  for (const auto* rows : {&f.g_west_rows, &f.h_west_rows})
+    if (!rows->empty() && rows->size() != std::size_t(f.nz))
+      bad("'g_west_rows', 'h_west_rows' need nz entries");
+  if (!(f.fill_west >= 0 && f.fill_west <= 1 && f.fill_east >= 0 && f.fill_east <= 1))
+    bad("the inlet fill ratios must lie in [0, 1]");
+}
+
 void FilmSolver::build_pattern() {
+  check_problem();
   const int nx = problem.nx, nz = problem.nz, n = cells();
   neighbour_.resize(n);
   for (int k = 0; k < nz; ++k) {
+    const int north = k + 1 < nz ? k + 1 : (problem.periodic_z ? 0 : -1);
+    const int south = k > 0 ? k - 1 : (problem.periodic_z ? nz - 1 : -1);
     for (int i = 0; i < nx; ++i) {
       int east = i + 1 < nx ? i + 1 : (problem.periodic_x ? 0 : -1);
       int west = i > 0 ? i - 1 : (problem.periodic_x ? nx - 1 : -1);
       neighbour_[i + nx * k] = {i + nx * k, east >= 0 ? east + nx * k : -1, west >= 0 ? west + nx * k : -1,
-                                k + 1 < nz ? i + nx * (k + 1) : -1, k > 0 ? i + nx * (k - 1) : -1};
+                                north >= 0 ? i + nx * north : -1, south >= 0 ? i + nx * south : -1};
     }
   }
   linear_ = std::make_unique<Linear>();
@@ -118,7 +145,7 @@ void FilmSolver::assemble(const Eigen::VectorXd& P, const Eigen::VectorXd& r, bo
   const double barus = linear ? 0.0 : f.barus;
   const double dx = f.dx, dz = f.dz, C = f.couette;
   a.M.setZero(n);
-  a.side_flow = a.west_flow = a.east_flow = 0;
+  a.side_flow = a.west_flow = a.east_flow = a.squeeze_flow = 0;
   if (jacobian) {
     a.JP.assign(n, {0, 0, 0, 0, 0});
     a.JR.assign(n, {0, 0, 0, 0, 0});
@@ -130,14 +157,20 @@ void FilmSolver::assemble(const Eigen::VectorXd& P, const Eigen::VectorXd& r, bo
 
   for (int k = 0; k < nz; ++k) {
     const int row = nx * k;
+    // This row's coefficients: per cell when given, else the per-column ones (the same for every row).
+    const double* g_east = f.g_east_cells.empty() ? f.g_east.data() : f.g_east_cells.data() + row;
+    const double* h_east = f.h_east_cells.empty() ? f.h_east.data() : f.h_east_cells.data() + row;
+    const double* h_centre = f.h_centre_cells.empty() ? f.h_centre.data() : f.h_centre_cells.data() + row;
+    const double* hdot = f.hdot_cells.empty() ? f.hdot.data() : f.hdot_cells.data() + row;
+    const double* g_north = f.g_north_cells.empty() ? nullptr : f.g_north_cells.data() + row;
     // Faces between columns i and i + 1 along x (periodic, or the east end for the last column).
     for (int i = 0; i < nx; ++i) {
       const int w = row + i;
-      const double G = f.g_east[i], H = f.h_east[i];
-      if (i + 1 == nx && !f.periodic_x) {  // east end: P = p_east half a cell away, full film from outside
+      const double G = g_east[i], H = h_east[i];
+      if (i + 1 == nx && !f.periodic_x) {  // east end: P = p_east half a cell away, film from outside
         const double g = G * fluidity(P[w]);
         const double dP = f.p_east - P[w];
-        const double fill = jfo && C >= 0 ? 1 - r[w] : 1.0;
+        const double fill = jfo ? (C >= 0 ? 1 - r[w] : f.fill_east) : 1.0;
         const double F = (-g * dP / (0.5 * dx) + C * H * fill) * dz;
         a.M[w] += F;
         a.east_flow += F;
@@ -169,13 +202,14 @@ void FilmSolver::assemble(const Eigen::VectorXd& P, const Eigen::VectorXd& r, bo
         }
       }
     }
-    // West end (not periodic): P = p_west half a cell before column 0, full film from outside.
+    // West end (not periodic): P = p_west half a cell before column 0, a film of fill_west from outside.
     if (!f.periodic_x) {
       const int s = row;
-      const double G = f.g_west, H = f.h_west;
+      const double G = f.g_west_rows.empty() ? f.g_west : f.g_west_rows[k];
+      const double H = f.h_west_rows.empty() ? f.h_west : f.h_west_rows[k];
       const double g = G * fluidity(P[s]);
       const double dP = P[s] - f.p_west;
-      const double fill = jfo && C < 0 ? 1 - r[s] : 1.0;
+      const double fill = jfo ? (C < 0 ? 1 - r[s] : f.fill_west) : 1.0;
       const double F = (-g * dP / (0.5 * dx) + C * H * fill) * dz;  // along +x, into the cell
       a.M[s] -= F;
       a.west_flow += F;
@@ -184,20 +218,23 @@ void FilmSolver::assemble(const Eigen::VectorXd& P, const Eigen::VectorXd& r, bo
         if (jfo && C < 0) a.JR[s][kSelf] += C * H * dz;
       }
     }
-    // Faces across the width, and the two edges (P = 0 half a cell away).
+    // Faces across the width (the last row's to row 0 if periodic), and the two edges (P = 0 half a cell
+    // away).
+    const bool north = k + 1 < nz || f.periodic_z;
     for (int i = 0; i < nx; ++i) {
       const int s = row + i;
-      const double H3 = f.h_centre[i] * f.h_centre[i] * f.h_centre[i];
-      if (k + 1 < nz) {
-        const int nn = s + nx;
-        const double g = H3 * 0.5 * (fluidity(P[s]) + fluidity(P[nn]));
+      const double H3 = h_centre[i] * h_centre[i] * h_centre[i];
+      if (north) {
+        const int nn = k + 1 < nz ? s + nx : i;
+        const double Gn = g_north ? g_north[i] : H3;
+        const double g = Gn * 0.5 * (fluidity(P[s]) + fluidity(P[nn]));
         const double dP = P[nn] - P[s];
         const double F = -g * dP / dz * dx;
         a.M[s] += F;
         a.M[nn] -= F;
         if (jacobian) {
-          const double dFs = (g - H3 * 0.5 * dfluidity(P[s]) * dP) / dz * dx;
-          const double dFn = (-g - H3 * 0.5 * dfluidity(P[nn]) * dP) / dz * dx;
+          const double dFs = (g - Gn * 0.5 * dfluidity(P[s]) * dP) / dz * dx;
+          const double dFn = (-g - Gn * 0.5 * dfluidity(P[nn]) * dP) / dz * dx;
           a.JP[s][kSelf] += dFs, a.JP[s][kNorth] += dFn;
           a.JP[nn][kSouth] -= dFs, a.JP[nn][kSelf] -= dFn;
         }
@@ -211,13 +248,17 @@ void FilmSolver::assemble(const Eigen::VectorXd& P, const Eigen::VectorXd& r, bo
         if (jacobian) a.JP[s][kSelf] += edges * (g + H3 * dfluidity(P[s]) * P[s]) / (0.5 * dz) * dx;
       }
     }
-    // Squeeze (quasi-steady: (1 - r) dH/dtau) and the Swift-Stieber mass source.
+    // Squeeze (quasi-steady: (1 - r) dH/dtau; with closing_film_full, dH/dtau where the film closes) and the
+    // Swift-Stieber mass source.
     for (int i = 0; i < nx; ++i) {
       const int m = row + i;
-      a.M[m] += (jfo ? 1 - r[m] : 1.0) * f.hdot[i] * area;
+      const bool fill_weighted = jfo && !(f.closing_film_full && hdot[i] < 0);
+      const double squeeze = (fill_weighted ? 1 - r[m] : 1.0) * hdot[i] * area;
+      a.M[m] += squeeze;
+      a.squeeze_flow += squeeze;
       if (ss) a.M[m] -= r[m] * area;
       if (!jacobian) continue;
-      if (jfo) a.JR[m][kSelf] -= f.hdot[i] * area;
+      if (fill_weighted) a.JR[m][kSelf] -= hdot[i] * area;
       if (ss) a.JR[m][kSelf] -= area;
     }
   }
@@ -305,6 +346,7 @@ bool FilmSolver::factorize_reduced(const FilmAssembly& a) {
 
 void FilmSolver::cold_start(Eigen::VectorXd& P, Eigen::VectorXd& r) {
   if (!linear_) build_pattern();
+  check_problem();
   const int n = cells();
   P.setZero(n);
   r.setZero(n);
@@ -335,6 +377,7 @@ void FilmSolver::cold_start(Eigen::VectorXd& P, Eigen::VectorXd& r) {
 // start (isoviscous full film), alpha raised in kBarusSteps steps, each solve warm-started from the last,
 // which follows the physical branch from the isoviscous solution.
 int FilmSolver::solve(Eigen::VectorXd& P, Eigen::VectorXd& r, const FiniteSolverOptions& options) {
+  check_problem();
   // mu / mu0 = exp(alpha p) beyond e^30 (1e13): no longer a lubricant, and beyond Barus's law by far.
   constexpr double kRunaway = 30;
   constexpr int kBarusSteps = 8;
@@ -468,6 +511,7 @@ int FilmSolver::solve_newton(Eigen::VectorXd& P, Eigen::VectorXd& r, const Finit
 
 bool FilmSolver::factorize_at(const Eigen::VectorXd& P, const Eigen::VectorXd& r) {
   if (!linear_) build_pattern();
+  check_problem();
   min_complementarity_ = true;
   assemble(P, r, true, last_);
   Eigen::VectorXd rhs;

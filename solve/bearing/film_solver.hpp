@@ -11,9 +11,14 @@
 // fill ratio (Elrod 1981; Vijayaraghavan and Keith 1989):
 //   sum over faces [ -G / mu_r dP/dn + C H_f (1 - r)_upwind n_x ] + (1 - r) dH/dtau A = 0
 // G: the Poiseuille conductance of the face (H^3 for a smooth film), H_f: the film that carries the Couette
-// flux, C: the mean surface speed (sign = direction), mu_r = exp(alpha P) (Barus, 1 below ambient).
+// flux, C: the mean surface speed (sign = direction), mu_r = exp(alpha P) (Barus, 1 below ambient). With
+// closing_film_full (the piston skirt) a cell whose film closes takes dH/dtau A instead of (1 - r) dH/dtau A.
 // Boundaries: along x either periodic (journal) or a given pressure half a cell beyond the end cells, with
-// a full film (fill 1) entering from outside; across, optionally P = 0 half a cell beyond both edges.
+// a film of a given fill ratio (1: fully flooded; JFO) entering from outside; across, optionally P = 0 half a
+// cell beyond both edges, or periodic (a full circle across, the piston skirt: skirt_film.hpp).
+// Coefficients: per column (the journal and the slider: the film varies along x only), or per cell (the
+// piston skirt: the film varies in both directions); each per-cell vector, when given, replaces its
+// per-column one, and the per-column ones are then not read.
 // Swift-Stieber: the fill ratio stays 1 and r is a local mass source >= 0 complementary to P. kNone: P
 // unconstrained, r = 0 (linear). Supply cells are held at the supply pressure with r = 0.
 //
@@ -51,12 +56,14 @@ struct FiniteSolverOptions {
 };
 
 /// The grid and coefficients of one film problem (nondimensional). The grid part (sizes, periodic_x,
-/// z_edges, supply) must not change after the first solve; the coefficients may change between solves.
+/// z_edges, periodic_z, supply) must not change after the first solve; the coefficients may change between
+/// solves. Cell m = i + nx k.
 struct FilmProblem {
   int nx = 0, nz = 1;
   double dx = 0, dz = 1;
   bool periodic_x = true;    ///< journal: column nx - 1 joins column 0; else boundary faces at both ends
   bool z_edges = true;       ///< P = 0 half a cell beyond rows 0 and nz - 1 (side leakage)
+  bool periodic_z = false;   ///< row nz - 1 joins row 0 (needs nz >= 3 and no z_edges)
   std::vector<char> supply;  ///< per cell: held at supply_p with r = 0
   Cavitation cavitation = Cavitation::kJfo;
 
@@ -69,6 +76,26 @@ struct FilmProblem {
   std::vector<double> hdot;       ///< nx: dH/dtau per column (squeeze)
   double g_west = 0, h_west = 0;  ///< not periodic: the west face of column 0 (x = 0)
   double p_west = 0, p_east = 0;  ///< not periodic: P half a cell beyond columns 0 and nx - 1
+  /// Not periodic, JFO: the fill ratio of the film that the Couette flux carries in from outside through the
+  /// west end (couette >= 0) or the east end (couette < 0); < 1 is a starved (partly flooded) inlet. The
+  /// other models keep a full film (fill 1).
+  double fill_west = 1, fill_east = 1;
+  /// JFO: a cell whose film closes (dH/dtau < 0) takes the squeeze term dH/dtau whatever its fill ratio (the
+  /// closing gap taken as full, a cavitated cell then has to be fed or pressurize), instead of (1 - r)
+  /// dH/dtau. Opening cells keep (1 - r) dH/dtau. Off: the journal bearing's closure. See docs/bearing.md
+  /// section 14.
+  bool closing_film_full = false;
+
+  // Per-cell coefficients (optional): each one, when not empty, replaces its per-column vector above.
+  std::vector<double> g_east_cells;  ///< nx nz: conductance of the east face of cell m (x = x_i + dx/2)
+  std::vector<double> h_east_cells;  ///< nx nz: Couette film of the east face of cell m
+  /// nx nz: conductance of the north face of cell m (z = z_k + dz/2; row nz - 1: the face to row 0 when
+  /// periodic_z, else not read). Empty: H^3 of the cell's centre film, as with per-column coefficients.
+  std::vector<double> g_north_cells;
+  std::vector<double> h_centre_cells;  ///< nx nz: film at the cell centres (the edge faces' conductance H^3)
+  std::vector<double> hdot_cells;      ///< nx nz: dH/dtau per cell (squeeze)
+  std::vector<double> g_west_rows;     ///< nz: not periodic, the conductance of the west face of each row
+  std::vector<double> h_west_rows;     ///< nz: not periodic, the Couette film of the west face of each row
 };
 
 /// Residuals and their derivatives at one state. Rows and stencil slots per cell.
@@ -82,6 +109,7 @@ struct FilmAssembly {
   double side_flow = 0;                   ///< out through both edges across (z_edges)
   double west_flow = 0;                   ///< along +x through the west end (not periodic)
   double east_flow = 0;                   ///< along +x through the east end (not periodic)
+  double squeeze_flow = 0;                ///< the squeeze terms' sum: the rate of the film's stored volume
 };
 
 class FilmSolver {
@@ -130,6 +158,8 @@ class FilmSolver {
 
  private:
   struct Linear;
+  /// Throws nvh::Error if the problem's sizes do not fit together (a programming error of the caller).
+  void check_problem() const;
   /// The semismooth Newton solve of solve() at the current coefficients (solve() adds the Barus
   /// continuation).
   int solve_newton(Eigen::VectorXd& P, Eigen::VectorXd& r, const FiniteSolverOptions& options);
