@@ -50,8 +50,12 @@ Eigen::MatrixXd modal_damping(const Eigen::MatrixXd& mass, const Eigen::MatrixXd
 /// The deflation of the error estimate (frf_error.hpp) must hold every mode up to 5 % above the band.
 constexpr double kDeflationMargin = 1.05 * 1.05;
 
-double square(double x) { return x * x; }
-double band_omega2(const ReductionSettings& s) { return square(kTwoPi * s.band_hz); }
+double square(double x) {
+  return x * x;
+}
+double band_omega2(const ReductionSettings& s) {
+  return square(kTwoPi * s.band_hz);
+}
 
 /// The eigenvalue below which `eig` holds every eigenpair: the next one above fmax (fmax requests; none
 /// found: all of them), or its highest (count requests: the next lies at or above it).
@@ -78,8 +82,9 @@ Eigen::MatrixXd modal_receptance(const Eigen::MatrixXd& phi, const Eigen::Vector
 /// right-hand side of sample k (nb columns) is filled by rhs(w_k^2, block); the solutions in sample order.
 /// `iterations` gets the sum over the blocks of their iterations.
 template <class FillRhs>
-std::vector<Eigen::MatrixXd> solve_in_blocks(DeflatedShiftedSolver& solver, const std::vector<double>& samples,
-                                             int nb, FillRhs rhs, int* iterations) {
+std::vector<Eigen::MatrixXd> solve_in_blocks(DeflatedShiftedSolver& solver,
+                                             const std::vector<double>& samples, int nb, FillRhs rhs,
+                                             int* iterations) {
   const int per_block = std::max(1, 256 / std::max(nb, 1));
   std::vector<Eigen::MatrixXd> out;
   for (std::size_t first = 0; first < samples.size(); first += per_block) {
@@ -147,8 +152,8 @@ FrfErrorEstimate modal_frf_error(const SparseMatrix& K, const SparseMatrix& M, c
     rigid_part.push_back(modal_receptance(rigid_b, lambda_rigid, w2));
     reduced.push_back(rigid_part.back() + modal_receptance(basis_b, lambda_r, w2));
   }
-  FrfErrorEstimate e = compare_receptances(s.band_hz, samples, full, reduced, rigid_part, in.boundary_names,
-                                           in.length_scale);
+  FrfErrorEstimate e =
+      compare_receptances(s.band_hz, samples, full, reduced, rigid_part, in.boundary_names, in.length_scale);
   e.solver_iterations = iterations;
   e.cost_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return e;
@@ -234,9 +239,10 @@ ReducedModel modal_reduction(ReductionInput& in, const Logger& log) {
                 s.where, "reduction.residual_modes");
   }
   if (s.band_hz > 0.0 && in.boundary_dofs.empty()) {
-    throw Error("band needs at least one [[interface]] point: the error estimate is that of the receptance "
-                "at the interfaces; without one give fmax or modes",
-                s.band_where, "reduction.band");
+    throw Error(
+        "band needs at least one [[interface]] point: the error estimate is that of the receptance "
+        "at the interfaces; without one give fmax or modes",
+        s.band_where, "reduction.band");
   }
   // The residual modes and the error estimate need K and M after the eigen-solve, which consumes them:
   // keep copies then.
@@ -305,11 +311,11 @@ ReducedModel modal_reduction(ReductionInput& in, const Logger& log) {
   const Eigen::VectorXd all_omega = sorted.cwiseSqrt();
   r.damping = (2.0 * s.damping_ratio * all_omega).asDiagonal();
   r.frequency_hz = all_omega / kTwoPi;
-  log.detail("modal: " + std::to_string(k) + " residual modes of " + std::to_string(in.boundary_dofs.size()) +
-             " interface DOF (" + std::to_string(res.dropped) + " dependent dropped), " +
-             (k > 0 ? hz(res.lambda.cwiseSqrt()(0) / kTwoPi) + " .. " +
-                          hz(res.lambda.cwiseSqrt()(k - 1) / kTwoPi)
-                    : std::string("none")));
+  log.detail(
+      "modal: " + std::to_string(k) + " residual modes of " + std::to_string(in.boundary_dofs.size()) +
+      " interface DOF (" + std::to_string(res.dropped) + " dependent dropped), " +
+      (k > 0 ? hz(res.lambda.cwiseSqrt()(0) / kTwoPi) + " .. " + hz(res.lambda.cwiseSqrt()(k - 1) / kTwoPi)
+             : std::string("none")));
   if (s.band_hz > 0.0) r.frf_error = modal_frf_error(K, M, in, eig, r);
   return r;
 }
@@ -322,7 +328,7 @@ ReducedModel modal_reduction(ReductionInput& in, const Logger& log) {
 /// (K_r - w^2 M_r)^-1, the first nb coordinates being the boundary DOF. The rigid-body part (free parts)
 /// comes from the reduced eigenproblem, whose basis holds the rigid motion exactly.
 FrfErrorEstimate craig_bampton_frf_error(const ReductionInput& in, const std::vector<int>& b,
-                                         const std::vector<int>& i_dofs,
+                                         const std::vector<int>& i_dofs, const SparseMatrix& Kib,
                                          std::shared_ptr<SparseCholesky> kii_factor, Eigen::MatrixXd phi,
                                          Eigen::VectorXd lambda, double bound, const ReducedModel& r) {
   const auto start = std::chrono::steady_clock::now();
@@ -345,7 +351,7 @@ FrfErrorEstimate craig_bampton_frf_error(const ReductionInput& in, const std::ve
     lambda = std::move(eig.eigenvalues);
   }
   DeflatedShiftedSolver solver(Kii, Mii, false, phi, lambda, bound, *kii_factor);
-  const SparseMatrix Kib = submatrix(K, i_dofs, b), Mib = submatrix(M, i_dofs, b);
+  const SparseMatrix Mib = submatrix(M, i_dofs, b);
   const Eigen::MatrixXd Kbb = Eigen::MatrixXd(submatrix(K, b, b)), Mbb = Eigen::MatrixXd(submatrix(M, b, b));
   const int nb = static_cast<int>(b.size()), rigid = in.rigid_body_modes;
 
@@ -362,22 +368,23 @@ FrfErrorEstimate craig_bampton_frf_error(const ReductionInput& in, const std::ve
   // D_ii^-1 (-D_ib) at every sample.
   const std::vector<Eigen::MatrixXd> solved = solve_in_blocks(
       solver, samples, nb,
-      [&](double w2, Eigen::Ref<Eigen::MatrixXd> rhs) { rhs = -Eigen::MatrixXd(Kib - w2 * Mib); }, &iterations);
+      [&](double w2, Eigen::Ref<Eigen::MatrixXd> rhs) { rhs = -Eigen::MatrixXd(Kib - w2 * Mib); },
+      &iterations);
   for (std::size_t k = 0; k < samples.size(); ++k) {
     const double w2 = square(kTwoPi * samples[k]);
-    const SparseMatrix Dib = Kib - w2 * Mib;
     const Eigen::MatrixXd& x = solved[k];
-    Eigen::MatrixXd schur = Kbb - w2 * Mbb + Eigen::MatrixXd(Dib.transpose() * x);
+    Eigen::MatrixXd schur = Kbb - w2 * Mbb + Kib.transpose() * x - w2 * (Mib.transpose() * x);
     schur = 0.5 * (schur + schur.transpose()).eval();
     const Eigen::MatrixXd g = schur.fullPivLu().inverse();
     full.push_back(0.5 * (g + g.transpose()));
+    // The boundary block of (K_r - w^2 M_r)^-1: nb columns solved, not the whole inverse.
     const Eigen::MatrixXd d_r = r.stiffness - w2 * r.mass;
-    const Eigen::MatrixXd g_r = d_r.fullPivLu().inverse().topLeftCorner(nb, nb);
+    const Eigen::MatrixXd g_r = d_r.fullPivLu().solve(Eigen::MatrixXd::Identity(d_r.rows(), nb)).topRows(nb);
     reduced.push_back(0.5 * (g_r + g_r.transpose()));
     rigid_part.push_back(modal_receptance(rigid_b, lambda_rigid, w2));
   }
-  FrfErrorEstimate e = compare_receptances(s.band_hz, samples, full, reduced, rigid_part, in.boundary_names,
-                                           in.length_scale);
+  FrfErrorEstimate e =
+      compare_receptances(s.band_hz, samples, full, reduced, rigid_part, in.boundary_names, in.length_scale);
   e.solver_iterations = iterations;
   e.cost_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return e;
@@ -471,7 +478,7 @@ ReducedModel craig_bampton(const ReductionInput& in, bool with_fixed_interface_m
   r.stiffness = 0.5 * (r.stiffness + r.stiffness.transpose()).eval();
   r.mass = 0.5 * (r.mass + r.mass.transpose()).eval();
   if (s.band_hz > 0.0 && ni > 0) {
-    r.frf_error = craig_bampton_frf_error(in, b, i_dofs, chol, phi, fixed_lambda, bound, r);
+    r.frf_error = craig_bampton_frf_error(in, b, i_dofs, Kib, chol, phi, fixed_lambda, bound, r);
   }
   log.detail(to_string(s.method) + ": " + std::to_string(nb) + " boundary DOF, " + std::to_string(nm) +
              " fixed-interface modes");
@@ -552,9 +559,8 @@ void report_error(const ReducedModel& r, const ReductionSettings& s, const Logge
   if (e.empty()) return;
   log.info("receptance error at the interfaces in 0 .. " + hz(s.band_hz) + " (" +
            std::to_string(e.frequency_hz.size()) + " frequencies, " + std::to_string(e.solver_iterations) +
-           " deflated-PCG iterations, " +
-           seconds(e.cost_seconds) + "): " + percent(e.max_error()) + " at most (tolerance " +
-           percent(s.frf_tolerance) + ")");
+           " deflated-PCG iterations, " + seconds(e.cost_seconds) + "): " + percent(e.max_error()) +
+           " at most (tolerance " + percent(s.frf_tolerance) + ")");
   for (int p = 0; p < static_cast<int>(e.points.size()); ++p) {
     const auto [worst, at] = e.point_max(p);
     log.detail("  " + e.points[p] + ": " + percent(worst) + " at most, at " + hz(at));
@@ -605,12 +611,13 @@ ReducedModel reduce(ReductionInput& in, const Logger& log) {
     const double error = r.frf_error.max_error();
     passes.emplace_back(cutoff, error);
     log.info("band " + hz(settings.band_hz) + ", pass " + std::to_string(pass) + ": cut-off " + hz(cutoff) +
-             " (" + std::to_string(r.coordinates.size()) + " coordinates), estimated error " + percent(error));
+             " (" + std::to_string(r.coordinates.size()) + " coordinates), estimated error " +
+             percent(error));
     const bool last = cutoff >= kLastCutoff * settings.band_hz * (1.0 - 1e-12);
     if (error <= settings.frf_tolerance || last) {
       r.cutoff_hz = cutoff;
       r.cutoff_passes = passes;
-        in.settings = settings;
+      in.settings = settings;
       report_error(r, settings, log);
       return r;
     }
