@@ -108,11 +108,6 @@ void check_reduction(const Component& component) {
                     " keeps the interface DOF, whose constraint modes already carry static loads there)",
                 r.where, "reduction.residual_modes");
   }
-  if (r.geometric_stiffening && component.kind != "beam") {
-    throw Error("geometric_stiffening works with beam components only (the prestress stiffness of " +
-                    component.kind + " elements is not implemented yet)",
-                r.where, "reduction.geometric_stiffening");
-  }
 }
 
 int count_rigid_body_modes(const FeModel& model) {

@@ -13,7 +13,9 @@
 #include <string>
 #include <vector>
 
+#include "condense/abaqus_mesh.hpp"
 #include "condense/component.hpp"
+#include "condense/solid_element.hpp"
 #include "condense/surface.hpp"
 #include "condense/timoshenko_beam.hpp"
 
@@ -56,6 +58,10 @@ struct FeModel {
 
   /// Beams: every element, for the geometric stiffness (geometric_stiffness.hpp); volumes: empty.
   std::vector<BeamElementRecord> beam_elements;
+  /// Volumes, only when the reduction asks for geometric stiffening: every solid element (its nodes are
+  /// model nodes) and its material, for the stress stiffness (geometric_stiffness.hpp); otherwise empty.
+  std::vector<MeshElement> solid_elements;
+  std::vector<IsotropicMaterial> solid_materials;
 
   SparseMatrix transform;           ///< T: 6N x n_free
   std::vector<bool> supported_dof;  ///< per nodal DOF: held by a support

@@ -17,8 +17,8 @@
 // the spin softening omega~ omega~ M, is not here: a floating frame of reference (solve) has it in its
 // inertia terms.
 //
-// Elements: beams (the axial force of each element, timoshenko_beam.hpp's local_geometric_stiffness).
-// Volume models are not supported yet (nvh::Error).
+// Elements: beams (the axial force of each element, timoshenko_beam.hpp's local_geometric_stiffness) and
+// solids (the stress at each integration point, solid_element.hpp's solid_stress_stiffness).
 #include <array>
 
 #include "common/superelement.hpp"
@@ -33,10 +33,15 @@ using nvh::kSpinProducts;
 
 using nvh::spin_products;
 
+/// The geometric stiffness of the model's elements under the linear prestress of the nodal displacement u
+/// (all nodal DOF, 6N): on all nodal DOF, both triangles, N/m (and N m/rad on beam rotations).
+SparseMatrix prestress_stiffness(const FeModel& model, const Eigen::VectorXd& u);
+
 /// The six K_ab on the free DOF (both triangles), N/m per (rad/s)^2 (and N m/rad per (rad/s)^2 on the
 /// rotations). K and M: the model's free-DOF matrices, whole or as lower triangles (`lower`).
 /// `rigid_body_modes`: the model's count (count_rigid_body_modes); the static solutions use inertia
-/// relief when it is not zero. nvh::Error for a model that is not made of beams.
+/// relief when it is not zero. nvh::Error for a model without element records (a volume model built
+/// without geometric_stiffening).
 std::array<SparseMatrix, 6> centrifugal_geometric_stiffness(const FeModel& model, const SparseMatrix& K,
                                                             const SparseMatrix& M, bool lower,
                                                             int rigid_body_modes, Ordering ordering);

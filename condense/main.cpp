@@ -44,7 +44,7 @@ full-model solves at sampled frequencies, is below frf_tolerance (default 0.01);
 given, band only estimates and reports that error. The estimate goes to the log and to
 /reduction_error of OUT.h5 (docs/component-format.md section 5.3).
 Options of [reduction]: residual_modes = true (modal: static correction modes of the interface DOF);
-geometric_stiffening = true (beams: the centrifugal stress stiffness per product of the spin's
+geometric_stiffening = true (beams and solids: the centrifugal stress stiffness per product of the spin's
 components, which solve scales with each flexible body's own spin; spin_speed_rpm and spin_axis reduce
 at a speed; docs/component-format.md section 5.2).
 It writes OUT.h5: reduced mass, stiffness and damping, eigenfrequencies, interface and observation

@@ -450,4 +450,36 @@ SolidElementMatrices solid_element(SolidType type, const Eigen::Matrix<double, 3
   return out;
 }
 
+Eigen::MatrixXd solid_stress_stiffness(SolidType type, const Eigen::Matrix<double, 3, Eigen::Dynamic>& nodes,
+                                       const IsotropicMaterial& material,
+                                       const Eigen::VectorXd& displacement) {
+  const int n = node_count(type);
+  if (nodes.cols() != n || displacement.size() != 3 * n) {
+    throw Error(to_string(type) + " element needs " + std::to_string(n) + " nodes and " +
+                std::to_string(3 * n) + " displacements");
+  }
+  check_material(material);
+  check_jacobian(type, nodes);
+  const Eigen::Matrix<double, 6, 6> D = isotropic_elasticity(material);
+  const double lambda = D(0, 1), mu = D(3, 3);
+  // u as 3 x n (column i: node i's displacement).
+  const Eigen::Map<const Eigen::Matrix<double, 3, Eigen::Dynamic>> u(displacement.data(), 3, n);
+  Eigen::MatrixXd kg = Eigen::MatrixXd::Zero(n, n);
+  const QuadratureRule& rule = quadrature_rule(type, Integrand::kStiffness);
+  const ShapeTable& shapes = shape_table(type, Integrand::kStiffness);
+  Eigen::Matrix<double, Eigen::Dynamic, 3> g(n, 3);
+  for (std::size_t q = 0; q < rule.points.size(); ++q) {
+    const Eigen::Matrix3d J = jacobian(nodes, shapes.dN_dxi[q]);
+    const double w = rule.weights[q] * J.determinant();
+    g.noalias() = shapes.dN_dxi[q] * J.inverse();
+    // grad u (row a: du_a/dx), eps = sym(grad u), sigma = lambda tr(eps) 1 + 2 mu eps.
+    const Eigen::Matrix3d grad = u * g;
+    const Eigen::Matrix3d eps = 0.5 * (grad + grad.transpose());
+    Eigen::Matrix3d sigma = 2.0 * mu * eps;
+    sigma.diagonal().array() += lambda * eps.trace();
+    kg.noalias() += w * (g * sigma * g.transpose());
+  }
+  return 0.5 * (kg + kg.transpose());
+}
+
 }  // namespace nvh::condense

@@ -69,6 +69,19 @@ SolidElementMatrices solid_element(SolidType type, const Eigen::Matrix<double, 3
                                    const IsotropicMaterial& material,
                                    MassQuadrature mass_quadrature = MassQuadrature::kExact);
 
+/// Stress (geometric) stiffness of one element under the stress of its nodal displacement `displacement`
+/// (3n, node-major, m): the linear prestress sigma = D eps(u) at each point of the stiffness rule, and
+///   K_G(3i+a, 3j+b) = delta_ab int g_i^T sigma g_j dV,    g_i = dN_i/dx
+/// (the second variation of the Green-Lagrange strain under the initial stress: Bathe, Finite Element
+/// Procedures, 1996, sec. 6.3.2, the matrix K_NL of the updated Lagrangian form; Cook, Malkus, Plesha and
+/// Witt, Concepts and Applications of Finite Element Analysis, 4th ed., 2002, sec. 18.3). The same for every
+/// displacement component, so it is returned as its n x n scalar part (N/m). Integrated with the stiffness
+/// rule, as CalculiX does (for C3D10 the integrand is cubic on an affine element and the 4-point rule exact
+/// to degree 2). nvh::Error as solid_element for bad nodes or material.
+Eigen::MatrixXd solid_stress_stiffness(SolidType type, const Eigen::Matrix<double, 3, Eigen::Dynamic>& nodes,
+                                       const IsotropicMaterial& material,
+                                       const Eigen::VectorXd& displacement);
+
 /// Shape functions N (n) and their derivatives dN/dxi (n x 3) at natural coordinates xi (tets: volume
 /// coordinates xi, eta, zeta with L1 = 1 - xi - eta - zeta; hexes: [-1,1]^3). N and dN are resized.
 void shape_functions(SolidType type, const Eigen::Vector3d& xi, Eigen::VectorXd& N, Eigen::MatrixXd& dN);

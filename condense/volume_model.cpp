@@ -304,6 +304,10 @@ FeModel build_volume_model(const Component& c, const Mesh& mesh) {
                   SourceLocation{mesh.file, e.line, 0}, "");
     }
     ++types[e.type];
+    if (c.reduction.geometric_stiffening) {
+      model.solid_elements.push_back(e);
+      model.solid_materials.push_back(material);
+    }
     for (int i = 0; i < n; ++i) {
       const int ni = e.nodes[i];
       for (int a = 0; a < 3; ++a) model.inactive_dof[6 * ni + a] = false;
