@@ -163,6 +163,17 @@ struct VolumeGeometry {
   SourceLocation where;
 };
 
+/// A static preload at a named point (an interface or an observation point), for the prestress it causes
+/// (geometric_stiffness.hpp): a force (N) and a moment (N m), component axes. The moment needs the point's
+/// rotations (a beam node or a volume's interface; a volume's observation point has translations only).
+struct Preload {
+  std::string point;
+  Vec3 force{};
+  Vec3 moment{};
+  SourceLocation where;
+  std::string path;  ///< e.g. "preload[1]"
+};
+
 struct Component {
   std::string name;
   std::string kind;  ///< "beam" | "volume"
@@ -173,6 +184,7 @@ struct Component {
   std::vector<Support> supports;
   std::vector<NamedPoint> interfaces;
   std::vector<NamedPoint> observers;
+  std::vector<Preload> preloads;  ///< [[preload]]: the stiffness is that of the preloaded part
   ReductionSettings reduction;
   bool export_surface = false;    ///< [surface] export: write the outer surface and its mode shapes
   double point_tolerance = 1e-6;  ///< m: how far a named point may lie from a node of the model

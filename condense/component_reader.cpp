@@ -371,6 +371,26 @@ Component read(const input::Document& doc, const std::filesystem::path& file) {
   }
   c.interfaces = read_points(root, "interface", c.kind == "volume");
   c.observers = read_points(root, "observe");
+  for (const Table& pt : root.table_array("preload")) {
+    Preload p;
+    p.path = pt.path();
+    p.where = pt.location("point");
+    p.point = pt.string("point");
+    const bool named = std::any_of(c.interfaces.begin(), c.interfaces.end(),
+                                   [&](const NamedPoint& n) { return n.name == p.point; }) ||
+                       std::any_of(c.observers.begin(), c.observers.end(),
+                                   [&](const NamedPoint& n) { return n.name == p.point; });
+    if (!named)
+      pt.fail("point", "expected the name of an [[interface]] or [[observe]] point, got \"" + p.point + "\"");
+    const auto force = pt.optional_vec3("force", Range::magnitude(1e12));
+    const auto moment = pt.optional_vec3("moment", Range::magnitude(1e12));
+    if (!force && !moment)
+      pt.fail("a preload needs force = [Fx, Fy, Fz] (N) and/or moment = [Mx, My, Mz] (N m)");
+    if (force) p.force = *force;
+    if (moment) p.moment = *moment;
+    pt.finish();
+    c.preloads.push_back(p);
+  }
   if (const auto surface = root.optional_table("surface")) {
     c.export_surface = surface->optional_boolean("export").value_or(false);
     if (c.export_surface && c.kind != "volume") {

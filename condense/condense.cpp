@@ -209,6 +209,36 @@ Superelement condense_component(const Component& c, EigenBackend backend, const 
     if (timer) timer->lap("prestress");
   }
 
+  // A static preload stiffens (or softens) the part for good: K + K_G(u_preload) (geometric_stiffness.hpp).
+  if (!c.preloads.empty()) {
+    Eigen::VectorXd load = Eigen::VectorXd::Zero(model.all_dofs());
+    for (const Preload& p : c.preloads) {
+      const auto named = [&](const std::vector<NamedPoint>& points, const std::vector<int>& nodes) {
+        for (std::size_t k = 0; k < points.size(); ++k)
+          if (points[k].name == p.point) return nodes[k];
+        return -1;
+      };
+      int node = named(c.interfaces, interface_nodes);
+      if (node < 0) node = named(c.observers, observer_nodes);
+      const bool moment = p.moment[0] != 0.0 || p.moment[1] != 0.0 || p.moment[2] != 0.0;
+      if (moment && model.inactive_dof[6 * node + 3])
+        throw Error("preload at \"" + p.point +
+                        "\": a moment needs a node with rotations (a beam node or a volume's "
+                        "interface), not a solid's surface node",
+                    p.where, p.path + ".moment");
+      for (int a = 0; a < 3; ++a) {
+        load(6 * node + a) += p.force[a];
+        load(6 * node + 3 + a) += p.moment[a];
+      }
+    }
+    SparseMatrix kg = preload_geometric_stiffness(model, in.stiffness, in.mass, in.lower_triangles,
+                                                  rigid_body_modes, run.ordering, load);
+    if (in.lower_triangles) kg = SparseMatrix(kg.triangularView<Eigen::Lower>());
+    in.stiffness += kg;
+    log.info("preload: " + std::to_string(c.preloads.size()) + " load(s); stiffness K + K_G(preload)");
+    if (timer) timer->lap("preload");
+  }
+
   in.settings = c.reduction;
   in.backend = backend;
   in.progress = run.progress;

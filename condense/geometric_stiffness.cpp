@@ -127,4 +127,15 @@ std::array<SparseMatrix, 6> centrifugal_geometric_stiffness(const FeModel& model
   return out;
 }
 
+SparseMatrix preload_geometric_stiffness(const FeModel& model, const SparseMatrix& K, const SparseMatrix& M,
+                                         bool lower, int rigid_body_modes, Ordering ordering,
+                                         const Eigen::VectorXd& load) {
+  if (model.beam_elements.empty() && model.solid_elements.empty())
+    throw Error("preload: the model (" + model.element_kind + ") holds no beam or solid element records");
+  const Eigen::MatrixXd f = model.transform.transpose() * load;
+  const Eigen::MatrixXd phi_r = free_rigid_body_modes(model, M, lower, rigid_body_modes);
+  const Eigen::VectorXd u = model.transform * inertia_relief_solve(K, M, lower, f, phi_r, ordering).col(0);
+  return model.transform.transpose() * prestress_stiffness(model, u) * model.transform;
+}
+
 }  // namespace nvh::condense

@@ -46,4 +46,11 @@ std::array<SparseMatrix, 6> centrifugal_geometric_stiffness(const FeModel& model
                                                             const SparseMatrix& M, bool lower,
                                                             int rigid_body_modes, Ordering ordering);
 
+/// The geometric stiffness of a static preload on the free DOF (both triangles): the deflection under the
+/// nodal load `load` (all nodal DOF, N and N m; inertia relief for a free part, as above) and the
+/// prestress stiffness of its stress.
+SparseMatrix preload_geometric_stiffness(const FeModel& model, const SparseMatrix& K, const SparseMatrix& M,
+                                         bool lower, int rigid_body_modes, Ordering ordering,
+                                         const Eigen::VectorXd& load);
+
 }  // namespace nvh::condense

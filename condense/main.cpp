@@ -46,7 +46,8 @@ given, band only estimates and reports that error. The estimate goes to the log 
 Options of [reduction]: residual_modes = true (modal: static correction modes of the interface DOF);
 geometric_stiffening = true (beams and solids: the centrifugal stress stiffness per product of the spin's
 components, which solve scales with each flexible body's own spin; spin_speed_rpm and spin_axis reduce
-at a speed; docs/component-format.md section 5.2).
+at a speed; docs/component-format.md section 5.2). [[preload]] point = "NAME", force = [..] (N),
+moment = [..] (N m): static loads whose prestress stiffens the part before it is reduced.
 It writes OUT.h5: reduced mass, stiffness and damping, eigenfrequencies, interface and observation
 shapes, mass properties and the floating-frame inertia invariants, with provenance. The layout is
 documented in docs/hdf5-format.md, the input in docs/component-format.md.

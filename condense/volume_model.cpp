@@ -304,7 +304,7 @@ FeModel build_volume_model(const Component& c, const Mesh& mesh) {
                   SourceLocation{mesh.file, e.line, 0}, "");
     }
     ++types[e.type];
-    if (c.reduction.geometric_stiffening) {
+    if (c.reduction.geometric_stiffening || !c.preloads.empty()) {
       model.solid_elements.push_back(e);
       model.solid_materials.push_back(material);
     }
