@@ -166,4 +166,36 @@ void LiftDriver::evaluate(double t, const MarkerMotion& i, const MarkerMotion& j
   out.phi_t[0] = -ds * rate_(t);
 }
 
+namespace {
+double time_itself(double t) {
+  return t;
+}
+double unit_rate(double) {
+  return 1.0;
+}
+
+// (D1): a LiftDriver whose "cam angle" is the time itself (theta = t, theta' = 1).
+class DisplacementDriver final : public Constraint {
+ public:
+  DisplacementDriver(std::function<std::pair<double, double>(double)> motion, double offset)
+      : lift_(std::move(motion), time_itself, unit_rate, offset) {}
+  std::string type() const override { return "displacement-driver"; }
+  bool is_driver() const override { return true; }
+  int size() const override { return 1; }
+  std::vector<std::string> equation_names() const override { return {"displacement"}; }
+  void evaluate(double t, const MarkerMotion& i, const MarkerMotion& j,
+                ConstraintEquations& out) const override {
+    lift_.evaluate(t, i, j, out);
+  }
+
+ private:
+  LiftDriver lift_;
+};
+}  // namespace
+
+std::unique_ptr<Constraint> make_displacement_driver(std::function<std::pair<double, double>(double)> motion,
+                                                     double offset) {
+  return std::make_unique<DisplacementDriver>(std::move(motion), offset);
+}
+
 }  // namespace nvh::solve

@@ -105,4 +105,13 @@ class LiftDriver final : public Constraint {
   double offset_;
 };
 
+/// Prescribed displacement of marker i along the z axis of marker j against time (docs/scene-format.md
+/// section 3, `type = "displacement"`): a shaker or a prescribed base motion, or a point of a driven body
+/// whose position fixes its angle (the tip of a bar on a revolute joint: angle = asin(s / length)),
+///   z_j . (p_i - p_j) = offset + s(t),                                                   (D1)
+/// the equations of LiftDriver with the cam angle replaced by the time. `motion(t)` returns {s (m), s'
+/// (m/s)}; `offset` (m) is the initial distance minus s(t0), so the start is consistent. 1 equation.
+std::unique_ptr<Constraint> make_displacement_driver(std::function<std::pair<double, double>(double)> motion,
+                                                     double offset);
+
 }  // namespace nvh::solve

@@ -53,6 +53,8 @@ class SceneReader {
     for (const auto& b : root.table_array("body")) read_body(b);
     if (s_.model.bodies.empty()) root.fail("a scene needs at least one [[body]]");
     for (const auto& j : root.table_array("joint")) read_joint(j);
+    // The start time before the drivers: a displacement driver's offset is taken there (read again below).
+    if (const auto c = root.optional_table("clock")) s_.start_time = c->number_or("start_time", 0.0, kTime);
     for (const auto& d : root.table_array("driver")) read_driver(d);
     for (const auto& f : root.table_array("force")) read_element(f, "force");
     for (const auto& l : root.table_array("load")) read_element(l, "load");
@@ -210,6 +212,7 @@ class SceneReader {
   }
 
   void read_driver(const Table& t);
+  void read_displacement_driver(const Table& t);
   void read_element(const Table& t, const std::string& section);
   void read_clock(const Table& root);
   void read_integrator(const Table& root);
@@ -224,9 +227,10 @@ class SceneReader {
 };
 
 void SceneReader::read_driver(const Table& t) {
-  std::vector<std::string> types = {"speed", "lift"};
+  std::vector<std::string> types = {"speed", "lift", "displacement"};
   for (const auto& n : builtin_elements().names("driver")) types.push_back(n);
   const std::string type = t.choice("type", types);
+  if (type == "displacement") return read_displacement_driver(t);
   if (type != "speed" && type != "lift") return read_element(t, "driver");  // a torque-speed curve: a force element
   const std::string name = t.name("name");
   const MarkerRef i = marker(t, "i"), j = marker(t, "j");
@@ -263,6 +267,24 @@ void SceneReader::read_driver(const Table& t) {
     return std::pair{l.s, l.ds};
   };
   add_constraint(t, name, std::make_unique<LiftDriver>(lift, theta, rate, offset), i, j);
+}
+
+// A prescribed harmonic displacement of i along z_j, constraint.hpp (D1):
+//   s(t) = A sin(2 pi f t + phase), s'(t) = 2 pi f A cos(2 pi f t + phase),
+// the convention of the harmonic loads; the offset makes the start consistent with the initial geometry.
+void SceneReader::read_displacement_driver(const Table& t) {
+  const std::string name = t.name("name");
+  const MarkerRef i = marker(t, "i"), j = marker(t, "j");
+  const double a = t.number("amplitude", kPosition);
+  const double w = 2 * kPi * t.number("frequency_hz", Range::closed(0.0, bounds::kFrequencyHz));
+  const double phase = t.number_or("phase_deg", 0.0, kAngleDeg) * kPi / 180;
+  t.finish();
+  auto motion = [=](double time) {
+    return std::pair{a * std::sin(w * time + phase), a * w * std::cos(w * time + phase)};
+  };
+  const MarkerMotion mi = initial_motion(i), mj = initial_motion(j);
+  const double offset = mj.axes.col(2).dot(mi.position - mj.position) - motion(s_.start_time).first;
+  add_constraint(t, name, make_displacement_driver(motion, offset), i, j);
 }
 
 void SceneReader::read_element(const Table& t, const std::string& section) {
