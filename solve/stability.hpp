@@ -25,8 +25,9 @@ std::complex<double> mode_z(double omega, double zeta, double h);
 /// cos(alpha_k): BDF-k is stable at every step on modes damped above this ratio (0 for k <= 2).
 double bdf_critical_damping(int k);
 /// The first interval of omega h in (0, 1e3] where BDF-k makes a mode of damping ratio zeta grow (max |xi| >
-/// 1 + 1e-12), edges to 1e-6 relative; a lower edge below 1e-2 is reported as 0 (the growth there is below
-/// round-off per step, (omega h)^4 / 4 for undamped BDF3). None when the mode is stable at every step.
+/// 1 + 1e-12), edges to 1e-6 relative; a band reaching below 1e-2 is reported from 0. Growth below 1e-12 per
+/// step counts as stable (undamped BDF4 grows by O((omega h)^5): its band is reported from 0.012). None when
+/// the mode is stable at every step.
 std::optional<std::pair<double, double>> bdf_unstable_band(int k, double zeta);
 
 }  // namespace nvh::solve
