@@ -77,6 +77,7 @@ Advice advise(Scene& scene, const AdviceOptions& options, const Logger& log) {
   }
   const double omega_b = kTwoPi * a.band_hz;
   a.step = 1 / (options.steps_per_period * a.band_hz);
+  a.rtol = std::min(scene.integrator.rtol, 1e-6);  // the documented default, or the scene's if tighter
 
   Model& model = scene.model;
   Eigen::VectorXd y, yp;

@@ -13,7 +13,7 @@
 //   method     contact elements (gaps): generalized-alpha, rho_inf 0.8, step h_b - measured faster at equal
 //              error on stiff contacts (piston slap: 0.8 % in 0.5 s against IDA's 5 % in 21 s) and stable at
 //              any step on damped modes; otherwise IDA (BDF, error-controlled: the smooth flexible
-//              slider-crank reached 1e-8 in 0.8 s), max_step h_b, rtol 1e-6.
+//              slider-crank reached 1e-8 in 0.8 s), max_step h_b, rtol 1e-6 (or the scene's if tighter).
 //   BDF        IDA's orders 3..max_order grow a mode of damping ratio below cos(alpha_k) (0.0698, 0.287,
 //              0.618) for a band of omega h: a warning when the scene's max_step puts a mode inside it (a
 //              step held there - by max_step, or by a tolerance that slower motion sets - makes it grow), a
