@@ -21,8 +21,9 @@
 //              (A-stable) or generalized-alpha.
 //   modes      each flexible body: the file's elastic modes up to cutoff_factor f_b (2 by default: a mode at
 //              2 f_b responds at f_b with the dynamic amplification 1 / (1 - 1/4) = 1.33 of its static
-//              response: a static correction within a third, which Craig-Bampton's static shapes carry); a warning when
-//              the file holds none above the cut-off, a note when the body uses modes far above it.
+//              response: a static correction within a third, which Craig-Bampton's static shapes carry); a
+//              warning when the file holds none above the cut-off, a note when the body uses modes far above
+//              it.
 //   reactions  generalized-alpha with rho_inf = 1 and joint reactions written: the multipliers drift
 //              (scene-format.md section 2).
 #include <string>
