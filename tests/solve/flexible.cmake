@@ -7,4 +7,5 @@ nvh_add_test(flexible_rocker_tests SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_flexib
   LIBS nvh_solve nvh_condense)
 # Centrifugal geometric stiffening of a flexible body against the rotating-beam reference.
 nvh_add_test(geometric_stiffening_tests SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_geometric_stiffening.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/test_kane_spinup.cpp
   LIBS nvh_solve nvh_condense)
