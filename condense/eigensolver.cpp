@@ -300,20 +300,38 @@ int lanczos_size(int nev, int n) {
 }
 
 /// Spectra's OpType concept for the symmetric form C of the shift-invert operator.
+/// With `deflate` (orthonormal eigenvectors Y of C found before), C restricted to their orthogonal
+/// complement, (1 - Y Y^T) C (1 - Y Y^T): Y's eigenvalues become 0, so the run finds the next ones
+/// (Saad, Numerical Methods for Large Eigenvalue Problems, 2nd ed., 2011, sec. 4.2, Wielandt/projection
+/// deflation). A pass that grows the count of an fmax request solves only for the new modes.
 struct SymmetricShiftInvert {
   using Scalar = double;
   const ShiftInvertOperator& op;
+  const Eigen::MatrixXd* deflate = nullptr;
   Eigen::Index rows() const { return op.rows(); }
   Eigen::Index cols() const { return op.cols(); }
-  void perform_op(const double* x_in, double* y_out) const { op.perform_symmetric_op(x_in, y_out); }
+  void perform_op(const double* x_in, double* y_out) const {
+    if (!deflate || deflate->cols() == 0) {
+      op.perform_symmetric_op(x_in, y_out);
+      return;
+    }
+    const Eigen::Map<const Eigen::VectorXd> x(x_in, rows());
+    const Eigen::VectorXd projected = x - *deflate * (deflate->transpose() * x);
+    op.perform_symmetric_op(projected.data(), y_out);
+    Eigen::Map<Eigen::VectorXd> y(y_out, rows());
+    y -= *deflate * (deflate->transpose() * y);
+  }
 };
 
 /// Spectra: SymEigsSolver on C, largest nu = 1 / (lambda - sigma) first; lambda = sigma + 1 / nu and
 /// x = P^T L^-T y.
-RawModes solve_spectra(ShiftInvertOperator& op, int nev, double tolerance) {
+/// `deflate`: see SymmetricShiftInvert. `vectors_of_c`: if given, receives the run's eigenvectors of C (to
+/// deflate a later run with).
+RawModes solve_spectra(ShiftInvertOperator& op, int nev, double tolerance,
+                       const Eigen::MatrixXd* deflate = nullptr, Eigen::MatrixXd* vectors_of_c = nullptr) {
   using Solver = Spectra::SymEigsSolver<SymmetricShiftInvert>;
   const int n = static_cast<int>(op.rows());
-  SymmetricShiftInvert c{op};
+  SymmetricShiftInvert c{op, deflate};
   // A non-converged run is retried with a doubled Lanczos basis (up to n).
   RawModes modes;
   for (int ncv = lanczos_size(nev, n);; ncv = std::min(n, 2 * ncv)) {
@@ -324,6 +342,7 @@ RawModes solve_spectra(ShiftInvertOperator& op, int nev, double tolerance) {
     if (solver.info() == Spectra::CompInfo::Successful) {
       modes.values = (op.shift() + solver.eigenvalues().array().inverse()).matrix();
       modes.vectors = solver.eigenvectors();
+      if (vectors_of_c) *vectors_of_c = modes.vectors;
       break;  // the solver and its Lanczos basis go before the vectors are transformed
     }
     if (ncv == n || solver.info() != Spectra::CompInfo::NotConverging) {
@@ -721,10 +740,14 @@ EigenResult solve_eigenproblem(SparseMatrix&& K, SparseMatrix&& M, const EigenRe
     // The Lanczos runs' time, without refactorizations at a moved shift (counted in the factor's stats).
     const auto iteration_start = std::chrono::steady_clock::now();
     const double factor_seconds_before = op.factor_stats().factor_seconds;
-    const auto solve = [&](int nev) {
+    // Spectra's runs keep their eigenvectors of C (last_c) so that a later pass can deflate them.
+    const bool deflating = request.backend == EigenBackend::kSpectra;
+    Eigen::MatrixXd last_c;
+    const auto solve = [&](int nev, const Eigen::MatrixXd* deflate = nullptr) {
       op.start_run(lanczos_size(nev, n), nev, &request.progress);
-      return request.backend == EigenBackend::kArpack ? solve_arpack(op, pencil, nev, request.tolerance)
-                                                      : solve_spectra(op, nev, request.tolerance);
+      return request.backend == EigenBackend::kArpack
+                 ? solve_arpack(op, pencil, nev, request.tolerance)
+                 : solve_spectra(op, nev, request.tolerance, deflate, by_count ? nullptr : &last_c);
     };
     // An automatic shift is a guess. If all wanted eigenvalues turn out to lie far below |sigma|, their
     // transformed values 1 / (lambda - sigma) crowd together and the vectors converge poorly (seen:
@@ -769,9 +792,27 @@ EigenResult solve_eigenproblem(SparseMatrix&& K, SparseMatrix&& M, const EigenRe
       // mode count grows like lambda^p (Weyl: p = 1/2 for beams, 1 for plates and shells, 3/2 for
       // solids), p fitted between the middle and the top of the modes found, with 15 % to spare; at
       // least 1.5 times the count.
+      // With Spectra a later pass solves only for the modes above those found, on the operator deflated
+      // of them (SymmetricShiftInvert), instead of all of them again: its Lanczos basis is the new
+      // modes' (measured: the piston to 30 kHz 185 -> 167 solves, the engine block to 5 kHz, 97 modes, 247 ->
+      // 218).
+      Eigen::MatrixXd found_c;  // eigenvectors of C of the modes in raw
       for (int nev = std::min(kInitialModes, n - 2), pass = 0;; ++pass) {
-        raw = solve(nev);
-        if (pass == 0 && !shift_fits(raw)) raw = solve(nev);
+        if (pass > 0 && deflating) {
+          const Eigen::Index k0 = raw.values.size();
+          const RawModes more = solve(nev - static_cast<int>(k0), &found_c);
+          const Eigen::Index k1 = more.values.size();
+          raw.values.conservativeResize(k0 + k1);
+          raw.values.tail(k1) = more.values;
+          raw.vectors.conservativeResize(Eigen::NoChange, k0 + k1);
+          raw.vectors.rightCols(k1) = more.vectors;
+          found_c.conservativeResize(Eigen::NoChange, k0 + k1);
+          found_c.rightCols(k1) = last_c;
+        } else {
+          raw = solve(nev);
+          if (pass == 0 && !shift_fits(raw)) raw = solve(nev);
+          if (deflating) found_c.swap(last_c);
+        }
         const double highest = raw.values.maxCoeff();
         if (highest > lambda_max) break;
         if (nev == n - 2) {
