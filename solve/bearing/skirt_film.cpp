@@ -318,6 +318,7 @@ SkirtResult SkirtFilm::post_process(const SkirtKinematics& k) {
         out.side_force -= p * cs * dA;
         out.pin_force -= p * sn * dA;
         out.moment += (p * y_c_[i] + R * tau) * cs * dA;
+        out.shear_moment += R * tau * cs * dA;
         out.friction_force += tau * dA;
         lateral_power -= p * cs * e_dot_at(y_c_[i]) * dA;
         if (spec_.asperity.active()) {

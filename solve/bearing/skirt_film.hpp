@@ -133,6 +133,7 @@ struct SkirtResult {
   double side_force = 0;             ///< N, along x: -int (p + p_a) cos(theta) dA
   double pin_force = 0;              ///< N, along w: -int p sin(theta) dA (0 for a skirt symmetric about x)
   double moment = 0;                 ///< N m, about the pin axis w: int ((p + p_a) y + R tau) cos(theta) dA
+  double shear_moment = 0;           ///< N m, the shear's part of `moment`: int R tau cos(theta) dA
   double friction_force = 0;         ///< N, along y: int tau dA, tau = -mu V theta_f / h - (h / 2) dp/dy
   double power_loss = 0;             ///< W, -(friction_force V - int p cos(theta) de(y)/dt dA) (the film's)
   double min_film = 0;               ///< m, over the cells' centres, faces and corners
