@@ -40,7 +40,7 @@
 // Film to dry contact without a switch (both off by default): with a film floor h_f > 0 the Reynolds equation
 // sees the effective film
 //   h_eff(h) = h_f (1 + ln(1 + exp((h - h_f) / h_f)))                     (a softplus floor;
-//   docs/bearing.md 14.7)
+//   docs/bearing.md 15.3)
 // - smooth and increasing, h_eff -> h for h >> h_f (h_eff - h = h_f ln(1 + exp(-(h - h_f)/h_f)): 0.13 h_f at
 // h = 3 h_f, 1.2e-4 h_f at 10 h_f), h_eff -> h_f as h -> -infinity - in its conductance, Couette film and
 // shear, while the squeeze term keeps the nominal gap's rate dh/dt (the roughness valleys hold oil the

@@ -3,7 +3,7 @@
 // cavitation, wedge and squeeze terms, barrel and ovality, partial flooding; eq. 12 of the engine paper,
 // ../shared/papers/000_*.txt) with the Greenwood-Tripp asperity contact (bearing/asperity_contact.hpp) on a
 // film floor, so that one law covers full film, mixed lubrication and hard contact
-// (docs/bearing.md, 14.7-14.8).
+// (docs/bearing.md, section 15).
 //
 // Markers. i: the piston, origin on the piston axis at the pin axis, z_i along the piston axis towards the
 // crown. j: the liner (ground or the block), origin on the bore axis, z_j the bore axis (towards the crown),
