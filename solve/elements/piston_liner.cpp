@@ -261,6 +261,7 @@ bearing::SkirtSpec read_skirt(const input::Table& t) {
   s.radial_clearance = t.number("radial_clearance", Range::closed(1e-7, 0.9 * s.bore_radius));
   s.skirt_length = t.number("skirt_length", Range::closed(1e-4, 10.0));
   s.skirt_top = t.number("skirt_top", Range::magnitude(10.0));
+  t.accept("arcs_deg");
   if (t.has("arcs_deg")) {
     s.arcs.clear();
     for (const auto& row : t.number_rows("arcs_deg", 2, Range::closed(-720.0, 720.0)))
@@ -268,7 +269,10 @@ bearing::SkirtSpec read_skirt(const input::Table& t) {
   }
   auto profile = [&](const char* key, double at_scale) {
     bearing::ProfileTable p;
-    if (!t.has(key)) return p;
+    if (!t.has(key)) {
+      t.accept(key);  // listed among the accepted keys of an error
+      return p;
+    }
     for (const auto& row : t.number_rows(key, 2, Range::magnitude(10.0)))
       p.at.push_back(row[0] * at_scale), p.value.push_back(row[1]);
     return p;
@@ -301,7 +305,17 @@ bearing::SkirtSpec read_skirt(const input::Table& t) {
   // off
   s.film_floor =
       t.number_or("film_floor", 0.5 * s.asperity.sigma, Range::closed(0.0, 0.5 * s.radial_clearance));
-  bearing::validate(s);
+  // The spec's own checks (arcs that overlap, profile positions not ascending): located at the key they name
+  try {
+    bearing::validate(s);
+  } catch (const Error& e) {
+    const std::string m = e.what();
+    for (const auto& [field, key] :
+         {std::pair{"'arcs", "arcs_deg"}, std::pair{"'barrel", "barrel"},
+          std::pair{"'ovality", "ovality_deg"}, std::pair{"'film_floor", "film_floor"}})
+      if (m.find(field) != std::string::npos) t.fail(key, m);
+    t.fail(m);
+  }
   return s;
 }
 

@@ -24,6 +24,7 @@
 //    (~35 N at mid-stroke, times tan(beta) <= 0.26 laterally) is not in the balance.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
@@ -183,6 +184,36 @@ TEST(PistonLiner, CycleLossEqualsFrictionPowerPlusSqueezeWork) {
       "measured: piston-liner cycle: loss %.9g J, friction power %.9g J + squeeze work %.9g J (relative "
       "difference %.2e, tolerance 1e-6); largest asperity force %.4g N\n",
       loss, friction, squeeze, (loss - friction - squeeze) / loss, largest_asperity);
+}
+
+// Bad input is an error located at its key (file:line:column and the key's name).
+TEST(PistonLiner, BadInputNamesFileLineAndKey) {
+  const std::string scene = testing::shipped_scene("scenes/piston_slap_film.toml");
+  const auto error = [&](const std::string& from, const std::string& to) {
+    std::string text = scene;
+    const auto at = text.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    if (at != std::string::npos) text.replace(at, from.size(), to);
+    return testing::scene_error(text);
+  };
+  const auto line_of = [&](const std::string& what) {
+    return std::to_string(
+        1 + std::count(scene.begin(), scene.begin() + static_cast<long>(scene.find(what)), '\n'));
+  };
+  std::string m = error("arcs_deg = [[-60, 60], [120, 240]]", "arcs_deg = [[-60, 60], [50, 240]]");
+  EXPECT_NE(m.find("bad.toml:" + line_of("arcs_deg") + ":"), std::string::npos) << m;
+  EXPECT_NE(m.find("arcs_deg"), std::string::npos) << m;
+  m = error("modulus = 1.1e11", "");
+  EXPECT_NE(m.find(".modulus'"), std::string::npos) << m;
+  m = error("sigma_beta_eta = 0.04", "K = 1e-3\nsigma_beta_eta = 0.04");
+  EXPECT_NE(m.find("bad.toml:"), std::string::npos) << m;
+  EXPECT_NE(m.find(".K'"), std::string::npos) << m;
+  m = error("radial_clearance = 30e-6", "radial_clearance = -30e-6");
+  EXPECT_NE(m.find("bad.toml:" + line_of("radial_clearance") + ":"), std::string::npos) << m;
+  m = error("bore_radius = 0.04", "bore_radius = 0.04\ndiameter = 0.08");
+  EXPECT_NE(m.find(".bore_radius'"), std::string::npos) << m;
+  m = error("cells_axial = 16", "cells_axial = 16\ncells_axal = 3");
+  EXPECT_NE(m.find("cells_axal"), std::string::npos) << m;
 }
 
 // The slider-crank closed form of the lateral force on the piston (the top of this file): crank radius r,
