@@ -102,6 +102,24 @@ void validate(const SkirtSpec& s) {
   }
   check_table(s, s.barrel, "barrel", false);
   check_table(s, s.ovality, "ovality", true);
+  if (!(s.film_floor >= 0 && s.film_floor < s.radial_clearance))
+    bad(s, "film_floor", "a number in [0, radial_clearance) (m)");
+  if (s.asperity.sigma != 0) {
+    if (!(s.asperity.sigma > 0 && std::isfinite(s.asperity.sigma)))
+      bad(s, "sigma", "a finite number >= 0 (m)");
+    if (!(s.asperity.K > 0 && std::isfinite(s.asperity.K))) bad(s, "K", "a finite number > 0");
+    if (!(s.asperity.modulus > 0 && std::isfinite(s.asperity.modulus)))
+      bad(s, "modulus", "a finite number > 0 (Pa)");
+  }
+}
+
+EffectiveFilm effective_film(double h, double film_floor) {
+  if (!(film_floor > 0)) return {h, 1.0};
+  // h_f (1 + softplus(x)), x = (h - h_f) / h_f, softplus(x) = max(x, 0) + log1p(exp(-|x|)) (no overflow)
+  const double x = (h - film_floor) / film_floor, ex = std::exp(-std::abs(x));
+  const double softplus = std::max(x, 0.0) + std::log1p(ex);
+  const double sigmoid = x >= 0 ? 1 / (1 + ex) : ex / (1 + ex);
+  return {film_floor * (1 + softplus), sigmoid};
 }
 
 double skirt_film_thickness(const SkirtSpec& s, const SkirtKinematics& k, double theta, double y) {
@@ -127,6 +145,7 @@ SkirtFilm::SkirtFilm(SkirtSpec spec, FiniteSolverOptions options)
     y_lattice_[i] = y_bottom + 0.5 * i * dy_,
     barrel_lattice_[i] = i % 2 ? barrel_c_[i / 2] : barrel_f_[i / 2];
   const int n = nx_ * nz_;
+  const double c0 = spec_.radial_clearance;
   for (const SkirtArc& a : spec_.arcs) {
     Arc arc;
     arc.full = full_circle(a);
@@ -158,6 +177,7 @@ SkirtFilm::SkirtFilm(SkirtSpec spec, FiniteSolverOptions options)
     f.g_west_rows.assign(nz_, 0.0), f.h_west_rows.assign(nz_, 0.0);
     arc.P = Eigen::VectorXd::Zero(n);
     arc.r = Eigen::VectorXd::Zero(n);
+    arc.h_nominal.assign(n, c0);
     arcs_.push_back(std::move(arc));
   }
 }
@@ -177,6 +197,8 @@ void SkirtFilm::set_motion(const SkirtKinematics& k) {
   auto e_dot_at = [&](double y) {
     return k.e_bottom_dot + (k.e_top_dot - k.e_bottom_dot) * (y - y_bottom) / L;
   };
+  // H = h_eff / c: the nominal film itself without a floor
+  auto eff = [&](double h) { return effective_film(h, spec_.film_floor).h / c; };
   for (Arc& arc : arcs_) {
     FilmProblem& f = arc.film.problem;
     f.couette = U / (R * omega_ref_);
@@ -188,16 +210,18 @@ void SkirtFilm::set_motion(const SkirtKinematics& k) {
       for (int i = 0; i < nx_; ++i) {
         const int m = i + nx_ * kz;
         const double e_c = e_at(y_c_[i]), e_e = e_at(y_f_[i + 1]);
-        const double Hc = (c - e_c * cos_c + barrel_c_[i] + ov_c) / c;
-        const double He = (c - e_e * cos_c + barrel_f_[i + 1] + ov_c) / c;
-        const double Hn = (c - e_c * cos_n + barrel_c_[i] + ov_n) / c;
+        const double hc = c - e_c * cos_c + barrel_c_[i] + ov_c;
+        arc.h_nominal[m] = hc;
+        const double Hc = eff(hc);
+        const double He = eff(c - e_e * cos_c + barrel_f_[i + 1] + ov_c);
+        const double Hn = eff(c - e_c * cos_n + barrel_c_[i] + ov_n);
         f.h_centre_cells[m] = Hc;
         f.h_east_cells[m] = He;
         f.g_east_cells[m] = He * He * He;
         f.g_north_cells[m] = Hn * Hn * Hn;
         f.hdot_cells[m] = -e_dot_at(y_c_[i]) * cos_c / (c * omega_ref_);
       }
-      const double Hw = (c - e_at(y_f_[0]) * cos_c + barrel_f_[0] + ov_c) / c;
+      const double Hw = eff(c - e_at(y_f_[0]) * cos_c + barrel_f_[0] + ov_c);
       f.h_west_rows[kz] = Hw;
       f.g_west_rows[kz] = Hw * Hw * Hw;
     }
@@ -225,7 +249,7 @@ SkirtResult SkirtFilm::evaluate(const SkirtKinematics& k) {
       }
     }
   }
-  if (!(h_min > 0)) {
+  if (!(h_min > 0) && !(spec_.film_floor > 0)) {
     std::ostringstream msg;
     msg << "skirt '" << spec_.name << "': the film closes (h = " << h_min << " m at theta = " << h_min_angle
         << " rad, y = " << h_min_y << " m; e_top = " << k.e_top << " m, e_bottom = " << k.e_bottom
@@ -294,8 +318,18 @@ SkirtResult SkirtFilm::post_process(const SkirtKinematics& k) {
         out.side_force -= p * cs * dA;
         out.pin_force -= p * sn * dA;
         out.moment += (p * y_c_[i] + R * tau) * cs * dA;
+        out.shear_moment += R * tau * cs * dA;
         out.friction_force += tau * dA;
         lateral_power -= p * cs * e_dot_at(y_c_[i]) * dA;
+        if (spec_.asperity.active()) {
+          const AsperityPressure a = asperity_pressure(spec_.asperity, arc.h_nominal[m]);
+          out.asperity_load += a.p * dA;
+          out.asperity_side_force -= a.p * cs * dA;
+          out.asperity_moment += a.p * y_c_[i] * cs * dA;
+          out.asperity_energy += a.energy * dA;
+          out.asperity_power -= a.p * cs * e_dot_at(y_c_[i]) * dA;
+          out.asperity_max_pressure = std::max(out.asperity_max_pressure, a.p);
+        }
         if (p > out.max_pressure) {
           out.max_pressure = p;
           out.max_pressure_angle = std::remainder(arc.start + (kz + 0.5) * dtheta, 2 * kPi);
@@ -312,6 +346,8 @@ SkirtResult SkirtFilm::post_process(const SkirtKinematics& k) {
   out.flow_bottom *= flow_scale, out.flow_top *= flow_scale, out.flow_sides *= flow_scale;
   out.stored_flow *= flow_scale;
   out.power_loss = -(out.friction_force * V + lateral_power);
+  out.side_force += out.asperity_side_force;
+  out.moment += out.asperity_moment;
   return out;
 }
 

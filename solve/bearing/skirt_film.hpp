@@ -37,12 +37,25 @@
 // The squeeze term (1 - r) dh/dt is quasi-steady (as for the journal bearing): one evaluation depends on the
 // state (e, de/dt, V) alone; the fill ratio's own rate in the cavitated zone is not followed. Isoviscous.
 //
+// Film to dry contact without a switch (both off by default): with a film floor h_f > 0 the Reynolds equation
+// sees the effective film
+//   h_eff(h) = h_f (1 + ln(1 + exp((h - h_f) / h_f)))                     (a softplus floor;
+//   docs/bearing.md 15.3)
+// - smooth and increasing, h_eff -> h for h >> h_f (h_eff - h = h_f ln(1 + exp(-(h - h_f)/h_f)): 0.13 h_f at
+// h = 3 h_f, 1.2e-4 h_f at 10 h_f), h_eff -> h_f as h -> -infinity - in its conductance, Couette film and
+// shear, while the squeeze term keeps the nominal gap's rate dh/dt (the roughness valleys hold oil the
+// closing gap still expels, so the squeeze load does not vanish at contact); a nominal film <= 0 is then no
+// error. The asperity pressure of the Greenwood-Tripp law (asperity_contact.hpp), evaluated per cell from the
+// nominal h, adds to the film pressure in the side force and the moment; it stores elastic energy and
+// dissipates none.
+//
 // Units SI: m, m/s, rad, Pa, Pa s, N, N m, W, m^3/s.
 #include <Eigen/Core>
 #include <numbers>
 #include <string>
 #include <vector>
 
+#include "solve/bearing/asperity_contact.hpp"
 #include "solve/bearing/bearing.hpp"
 #include "solve/bearing/film_solver.hpp"
 
@@ -90,7 +103,20 @@ struct SkirtSpec {
   double pressure_top = 0;     ///< Pa (gauge) at the top edge
   int cells_axial = 40;        ///< finite volumes along the axis (>= 2)
   int cells_around = 24;       ///< finite volumes around, in each arc (>= 3)
+  /// m, the film floor h_f of the effective film h_eff(h) (see the top of this file); 0: off (a film <= 0 is
+  /// an error).
+  double film_floor = 0;
+  /// Asperity contact on the nominal film, per cell (inactive while asperity.sigma = 0).
+  GreenwoodTripp asperity;
 };
+
+/// The effective film of the Reynolds equation for a film floor h_f > 0 (h itself for h_f = 0), and its
+/// derivative dh_eff/dh.
+struct EffectiveFilm {
+  double h = 0;
+  double dh = 1;
+};
+EffectiveFilm effective_film(double h, double film_floor);
 
 /// The piston's motion the film sees (the liner at rest).
 struct SkirtKinematics {
@@ -101,13 +127,15 @@ struct SkirtKinematics {
   double speed = 0;         ///< m/s, V: the piston's axial velocity relative to the liner along y
 };
 
-/// What one evaluation returns. Forces and moment are the film's on the piston (the liner gets the opposite).
+/// What one evaluation returns. Forces and moment are the film's and the asperities' on the piston (the liner
+/// gets the opposite); p is the film pressure, p_a the asperity pressure.
 struct SkirtResult {
-  double side_force = 0;             ///< N, along x: -int p cos(theta) dA
+  double side_force = 0;             ///< N, along x: -int (p + p_a) cos(theta) dA
   double pin_force = 0;              ///< N, along w: -int p sin(theta) dA (0 for a skirt symmetric about x)
-  double moment = 0;                 ///< N m, about the pin axis w: int (p y + R tau) cos(theta) dA
+  double moment = 0;                 ///< N m, about the pin axis w: int ((p + p_a) y + R tau) cos(theta) dA
+  double shear_moment = 0;           ///< N m, the shear's part of `moment`: int R tau cos(theta) dA
   double friction_force = 0;         ///< N, along y: int tau dA, tau = -mu V theta_f / h - (h / 2) dp/dy
-  double power_loss = 0;             ///< W, -(friction_force V - int p cos(theta) de(y)/dt dA)
+  double power_loss = 0;             ///< W, -(friction_force V - int p cos(theta) de(y)/dt dA) (the film's)
   double min_film = 0;               ///< m, over the cells' centres, faces and corners
   double min_film_angle = 0;         ///< rad
   double min_film_position = 0;      ///< m, y
@@ -121,6 +149,13 @@ struct SkirtResult {
   /// flow_bottom + flow_top = flow_sides + stored_flow.
   double stored_flow = 0;
   int iterations = 0;  ///< Newton iterations, all arcs
+  // Asperity contact (zero while the law is inactive); included in side_force and moment above.
+  double asperity_load = 0;          ///< N, int p_a dA (the normal load the asperities carry)
+  double asperity_side_force = 0;    ///< N, along x: -int p_a cos(theta) dA
+  double asperity_moment = 0;        ///< N m, about w: int p_a y cos(theta) dA
+  double asperity_energy = 0;        ///< J, stored: int u(h) dA
+  double asperity_power = 0;         ///< W, of p_a on the piston's lateral motion: -d(asperity_energy)/dt
+  double asperity_max_pressure = 0;  ///< Pa
 };
 
 /// Throws nvh::Error naming the field if the spec is not usable.
@@ -135,7 +170,7 @@ class SkirtFilm {
   explicit SkirtFilm(SkirtSpec spec, FiniteSolverOptions options = {});
 
   /// Solves the film for this motion, warm-started from the previous solution (if any). Throws nvh::Error if
-  /// the film is <= 0 somewhere (contact; not modelled here) or the Newton solve does not converge.
+  /// the film is <= 0 somewhere without a film floor, or the Newton solve does not converge.
   SkirtResult evaluate(const SkirtKinematics& k);
   /// Forget the previous solution: the next evaluation starts cold.
   void reset() { has_solution_ = false; }
@@ -156,6 +191,7 @@ class SkirtFilm {
     bool full = false;                            // the full circle: periodic around
     std::vector<double> cos_c, sin_c, ovality_c;  // at the cells' centres
     std::vector<double> cos_f, ovality_f;         // at the nz + 1 faces around (the start edge first)
+    std::vector<double> h_nominal;                // m, the nominal film at the cells' centres (asperities)
     FilmSolver film;
     Eigen::VectorXd P, r;
     FilmAssembly fluxes;  // at the last solution (the flows)

@@ -17,5 +17,6 @@ void register_loads(ElementRegistry&);
 void register_journal_bearing(ElementRegistry&);
 void register_roller_cam(ElementRegistry&);
 void register_valve_seat(ElementRegistry&);
+void register_piston_liner(ElementRegistry&);
 
 }  // namespace nvh::solve

@@ -522,6 +522,42 @@ TEST(ElementJacobians, RollerCamOnEveryRegionOfTheProfile) {
   expect_matches(*eccentric.element, open, "roller-cam open", false);
 }
 
+// The piston-liner element scaled up so that the differences step (1e-6 m, relative to the clearance 0.5 m)
+// resolves the film: a skirt of 0.1 m in a bore of radius 1 m, random marker motions keep the film above 0.1
+// m; the asperities (sigma 0.04 m) touch where the film is below 0.16 m; the film solved to 1e-13.
+const std::string kPistonLinerKeys =
+    "bore_radius = 1.0\nradial_clearance = 0.5\nskirt_length = 0.1\nskirt_top = 0.05\nviscosity = 0.01\n"
+    "sigma = 0.04\nK = 1e-3\nmodulus = 1e8\nmu_asperity = 0.1\nfriction_regularization_speed = 0.5\n"
+    "cells_axial = 8\ncells_around = 6\nfilm_tolerance = 1e-13\nbarrel = [[-0.05, 0.01], [0.0, 0.0], [0.05, "
+    "0.02]]\n";
+
+// The piston near the liner's thrust side: in the film only, in mixed contact, and past the nominal contact
+// (h < 0 over part of the skirt: the film floor and the asperities); sliding fast, slowly (the asperity
+// friction's regularization) and with both cavitation models.
+TEST(ElementJacobians, PistonLinerFromFilmToContact) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const Built jfo = build("force", "piston-liner", kPistonLinerKeys, {MarkerMotion{}, MarkerMotion{}});
+  const Built full =
+      build("force", "piston-liner", kPistonLinerKeys + "cavitation = \"none\"\narcs_deg = [[-180, 180]]\n",
+            {MarkerMotion{}, MarkerMotion{}});
+  for (const double e : {0.1, 0.38, 0.47, 0.53}) {  // clearance 0.5: sigma 0.04 touches below h = 0.16
+    for (const double speed : {2.0, 0.1}) {
+      Point p = two_random(rng);
+      const MarkerMotion& j = p.markers[1];
+      MarkerMotion& i = p.markers[0];
+      // piston axis along z_j tilted by 0.02 rad about the pin axis, pin 0.01 m off e along x_j
+      i.axes = Eigen::AngleAxisd(0.02 * u(rng), -j.axes.col(1)).toRotationMatrix() * j.axes;
+      i.position = j.position + (e + 0.01 * u(rng)) * j.axes.col(0) + 0.1 * u(rng) * j.axes.col(2);
+      i.velocity = j.velocity + j.angular_velocity.cross(i.position - j.position) + speed * j.axes.col(2) +
+                   0.2 * u(rng) * j.axes.col(0);
+      const std::string tag = "e = " + std::to_string(e) + ", V = " + std::to_string(speed);
+      expect_matches(*jfo.element, p, "piston-liner JFO, " + tag);
+      expect_matches(*full.element, p, "piston-liner full circle, " + tag);
+    }
+  }
+}
+
 TEST(ElementJacobians, EveryRegisteredTypeIsAnalytic) {
   const std::map<std::string, std::string> keys = {
       {"force spring-damper", "k = 1e4\nd = 10\n"},
@@ -542,6 +578,7 @@ TEST(ElementJacobians, EveryRegisteredTypeIsAnalytic) {
       {"load force", "direction = [0, 0, 1]\naxes = \"marker\"\namplitude = 1.0\nfrequency_hz = 10.0\n"},
       {"load torque", "direction = [0, 0, 1]\nabscissa = \"crank-angle\"\ntable = [[0.0, 0.0], [720.0, 1.0]]\n"},
       {"force valve-seat", "seat_diameter = 0.03\nface_radius = 0.05\nrestitution = 0.8\n"},
+      {"force piston-liner", kPistonLinerKeys},
   };
   std::mt19937 rng(1);
   std::set<std::string> seen;
