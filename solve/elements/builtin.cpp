@@ -18,6 +18,7 @@ const ElementRegistry& builtin_elements() {
     register_loads(r);
     register_journal_bearing(r);
     register_roller_cam(r);
+    register_flat_face_cam(r);
     register_valve_seat(r);
     register_piston_liner(r);
     return r;

@@ -16,6 +16,7 @@ void register_motor(ElementRegistry&);
 void register_loads(ElementRegistry&);
 void register_journal_bearing(ElementRegistry&);
 void register_roller_cam(ElementRegistry&);
+void register_flat_face_cam(ElementRegistry&);
 void register_valve_seat(ElementRegistry&);
 void register_piston_liner(ElementRegistry&);
 

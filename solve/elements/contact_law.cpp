@@ -19,11 +19,17 @@ Parameters read_parameters(const input::Table& t) {
   p.restitution = t.number_or("restitution", 1.0, Range::open(0.0, 1.0 + 1e-12));
   p.reference_speed = t.number_or("reference_speed", 1.0, speed);
   p.clearance = t.number_or("clearance", 0.0, Range::magnitude(bounds::kClearance));
+  read_friction(t, p);
+  return p;
+}
+
+void read_friction(const input::Table& t, Parameters& p) {
+  using input::Range;
+  const Range speed = Range::closed(1e-9, bounds::kSpeed);  // from 1 nm/s: read_parameters
   p.mu_static = t.number_or("mu_static", 0.0, Range::closed(0.0, 10.0));
   p.mu_dynamic = t.number_or("mu_dynamic", p.mu_static, Range::closed(0.0, 10.0));
   p.stribeck_speed = t.number_or("stribeck_speed", 0.01, speed);
   p.regularization_speed = t.number_or("regularization_speed", 1e-4, speed);
-  return p;
 }
 
 State Law::state(const MarkerMotion& point, const MarkerMotion& j) const {
@@ -43,6 +49,13 @@ double Law::normal_force(const State& s) const {
 double Law::mu(double vt) const {
   const double x = vt / p_.stribeck_speed;
   return (p_.mu_dynamic + (p_.mu_static - p_.mu_dynamic) * std::exp(-x * x)) * std::tanh(vt / p_.regularization_speed);
+}
+
+double Law::mu_derivative(double vt) const {
+  const double x = vt / p_.stribeck_speed, th = std::tanh(vt / p_.regularization_speed);
+  const double m = p_.mu_dynamic + (p_.mu_static - p_.mu_dynamic) * std::exp(-x * x);
+  const double dm = -2.0 * x / p_.stribeck_speed * (p_.mu_static - p_.mu_dynamic) * std::exp(-x * x);
+  return dm * th + m * (1.0 - th * th) / p_.regularization_speed;
 }
 
 Vec3 Law::force(const State& s) const {

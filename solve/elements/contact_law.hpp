@@ -34,6 +34,9 @@ inline constexpr const char* kKeys =
     "stiffness, exponent, restitution, reference_speed, clearance, mu_static, mu_dynamic, stribeck_speed, "
     "regularization_speed";
 Parameters read_parameters(const input::Table& t);
+/// Only the friction keys (mu_static, mu_dynamic, stribeck_speed, regularization_speed) into `p`: for an
+/// element with its own normal law and the friction of this one (flat_face_cam.cpp).
+void read_friction(const input::Table& t, Parameters& p);
 
 /// The kinematics of a point against the plane.
 struct State {
@@ -50,6 +53,8 @@ class Law {
   State state(const MarkerMotion& point, const MarkerMotion& j) const;
   double normal_force(const State& s) const;
   double mu(double slip_speed) const;
+  /// d mu / d v: mu(v) is odd in v (tanh), so mu(v) fn is also the friction of a signed slip speed v.
+  double mu_derivative(double slip_speed) const;
   /// The force on the point at its origin (N): fn n + ft, zero when open.
   Vec3 force(const State& s) const;
   /// dF by the point's and j's motion; false (df untouched) where there is no force (open, or the clamp fn = 0).

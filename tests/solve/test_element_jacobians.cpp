@@ -558,6 +558,80 @@ TEST(ElementJacobians, PistonLinerFromFilmToContact) {
   }
 }
 
+// flat-face-cam: the face pressed 0.5 to 1.5 mm into the cam, at a random offset along the face, tilted up to
+// 0.05 rad out of the cam's plane (the projection's derivative), the cam turned and spinning at random, the
+// face sliding at random (friction with a Stribeck hump and a wide regularization, so that mu' enters) and
+// approaching within 1 mm/s; on the polynomial event's base circle, ramp, rise and top, and on the eccentric
+// cam (Palmgren's and a linear law); lifted off: no force, no Jacobian.
+TEST(ElementJacobians, FlatFaceCamAroundTheProfile) {
+  const std::string friction =
+      "mu_static = 0.15\nmu_dynamic = 0.08\nstribeck_speed = 0.2\nregularization_speed = 0.05\n";
+  const std::string common = "face_width = 0.015\nrestitution = 0.7\nroller_radius = 0.012\n" + friction;
+  const std::string poly =
+      "profile = \"polynomial\"\nbase_radius = 0.02\nlift = 0.008\nrise_deg = 60\n"
+      "ramp_deg = 20\nramp_height = 0.0003\n";
+  const std::string ecc = "profile = \"eccentric\"\nbase_radius = 0.02\neccentricity = 0.005\n";
+  const Built polynomial = build("force", "flat-face-cam", common + poly, {MarkerMotion{}, MarkerMotion{}});
+  const Built eccentric = build("force", "flat-face-cam", common + ecc, {MarkerMotion{}, MarkerMotion{}});
+  const Built linear =
+      build("force", "flat-face-cam", common + "stiffness = 1e8\n" + ecc, {MarkerMotion{}, MarkerMotion{}});
+  const auto profile_of = [](const std::string& keys) {
+    const input::Document doc = input::Document::parse(keys, "cam.toml");
+    std::vector<std::filesystem::path> files;
+    return cam::read_cam_profile(doc.root(), ".", files);
+  };
+  const auto poly_profile = profile_of(poly + "roller_radius = 0.012\n");
+  const auto ecc_profile = profile_of(ecc + "roller_radius = 0.012\n");
+  std::mt19937 rng(13);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  // The face's support value h by brute force over the pitch curve (the cam surface is its inner offset).
+  const auto support_h = [](const cam::CamProfile& profile, double phi) {
+    double h = -1e300;
+    for (int k = 0; k < 200000; ++k) {
+      const cam::PitchPoint pp = cam::pitch_point(profile, 2 * std::numbers::pi * k / 200000);
+      h = std::max(h, pp.x * std::cos(phi) + pp.y * std::sin(phi));
+    }
+    return h - profile.roller_radius();
+  };
+  const auto place = [&](const cam::CamProfile& profile, double phi) {
+    Point p = two_random(rng, 0.05);
+    MarkerMotion& cam = p.markers[1];
+    MarkerMotion& face = p.markers[0];
+    const double depth = 1e-3 * (1.0 + 0.5 * u(rng));
+    const Vec3 uc(std::cos(phi), std::sin(phi), 0.0), tc(-std::sin(phi), std::cos(phi), 0.0);
+    const Vec3 local =
+        (support_h(profile, phi) - depth) * uc + 0.01 * u(rng) * tc + Vec3(0, 0, 0.003 * u(rng));
+    face.position = cam.position + cam.axes * local;
+    // z_i = -u, tilted out of the cam's plane by up to 0.05 rad about t
+    const Vec3 zi = Eigen::AngleAxisd(0.05 * u(rng), cam.axes * tc).toRotationMatrix() * (cam.axes * -uc);
+    const Vec3 xi = zi.unitOrthogonal();
+    face.axes.col(0) = xi;
+    face.axes.col(1) = zi.cross(xi);
+    face.axes.col(2) = zi;
+    // slow approach: the normal relative velocity at the face's origin within 1 mm/s
+    const Vec3 n = cam.axes * uc;
+    const Vec3 vr = face.velocity - cam.velocity - cam.angular_velocity.cross(face.position - cam.position);
+    face.velocity += (1e-3 * u(rng) - n.dot(vr)) * n;
+    face.angular_velocity *= 0.1;
+    return p;
+  };
+  // Face directions: the lift's cam angle theta = -phi; the polynomial event's nose at 0, its ramps at
+  // +-(60..80) deg, the base circle beyond.
+  for (const double deg : {0.0, 25.0, -50.0, 70.0, 120.0, 200.0}) {
+    const double phi = -deg * std::numbers::pi / 180;
+    expect_matches(*polynomial.element, place(*poly_profile, phi),
+                   "flat-face-cam, polynomial at " + std::to_string(deg));
+    expect_matches(*eccentric.element, place(*ecc_profile, phi),
+                   "flat-face-cam, eccentric at " + std::to_string(deg));
+    expect_matches(*linear.element, place(*ecc_profile, phi),
+                   "flat-face-cam, linear law at " + std::to_string(deg));
+  }
+  Point open = place(*ecc_profile, 0.3);
+  open.markers[0].position +=
+      0.01 * (open.markers[1].axes * Vec3(std::cos(0.3), std::sin(0.3), 0.0));  // lifted off
+  expect_matches(*eccentric.element, open, "flat-face-cam open", false);
+}
+
 TEST(ElementJacobians, EveryRegisteredTypeIsAnalytic) {
   const std::map<std::string, std::string> keys = {
       {"force spring-damper", "k = 1e4\nd = 10\n"},
@@ -574,6 +648,8 @@ TEST(ElementJacobians, EveryRegisteredTypeIsAnalytic) {
       {"force roller-cam", "roller_width = 0.01\nprofile = \"eccentric\"\nbase_radius = 0.1\neccentricity = 0.02\n"
                            "roller_radius = 0.02\n"},
       {"force motor", "table = [[-1000.0, 20.0], [3000.0, -5.0]]\n"},
+      {"force flat-face-cam", "face_width = 0.01\nprofile = \"eccentric\"\nbase_radius = 0.1\n"
+                              "eccentricity = 0.02\nroller_radius = 0.02\nmu_static = 0.1\n"},
       {"driver motor", "table = [[-1000.0, 20.0], [3000.0, -5.0]]\n"},
       {"load force", "direction = [0, 0, 1]\naxes = \"marker\"\namplitude = 1.0\nfrequency_hz = 10.0\n"},
       {"load torque", "direction = [0, 0, 1]\nabscissa = \"crank-angle\"\ntable = [[0.0, 0.0], [720.0, 1.0]]\n"},
