@@ -321,10 +321,12 @@ void ResultsWriter::append_rows(const h5::Group& source, hsize_t first, hsize_t 
     const bool ok = rank >= 1 && dims[0] >= end &&
                     H5Sselect_hyperslab(space, H5S_SELECT_SET, start, nullptr, count, nullptr) >= 0 &&
                     H5Dread(ds, H5T_NATIVE_DOUBLE, memory, space, H5P_DEFAULT, rows.data()) >= 0;
-    for (hid_t id : {memory, space}) if (id >= 0) H5Sclose(id);
+    for (hid_t id : {memory, space})
+      if (id >= 0) H5Sclose(id);
     if (ds >= 0) H5Dclose(ds);
-    if (!ok) throw Error("results: cannot read the rows " + std::to_string(first) + " to " + std::to_string(end) +
-                         " of /" + c.path + " (the kept cycles)");
+    if (!ok)
+      throw Error("results: cannot read the rows " + std::to_string(first) + " to " + std::to_string(end) +
+                  " of /" + c.path + " (the kept cycles)");
     c.dataset.append(rows);
     c.dataset.flush();
   }

@@ -4,9 +4,9 @@
 // until the end), and a checkpoint after every chunk from which `solve --restart` continues.
 #include <filesystem>
 #include <map>
+#include <memory>
 #include <optional>
 #include <span>
-#include <memory>
 #include <string>
 #include <vector>
 
@@ -19,7 +19,8 @@ namespace nvh::solve {
 inline constexpr const char* kResultsFormat = "nvh-results";
 inline constexpr const char* kResultsFormatVersion = "1.0";
 
-/// The signal datasets the scene writes, in file order: their paths (no leading '/') and columns (0: a vector).
+/// The signal datasets the scene writes, in file order: their paths (no leading '/') and columns (0: a
+/// vector).
 void result_datasets(const Scene& scene, std::vector<std::string>& paths, std::vector<int>& columns);
 
 struct Checkpoint {
@@ -59,7 +60,9 @@ class ResultsWriter {
   /// The index of the signal dataset at `path` (no leading '/'), or -1.
   int dataset_index(const std::string& path) const;
   /// Values per sample of dataset `index` (1 for a vector).
-  std::size_t dataset_width(int index) const { return static_cast<std::size_t>(channels_.at(static_cast<std::size_t>(index)).width); }
+  std::size_t dataset_width(int index) const {
+    return static_cast<std::size_t>(channels_.at(static_cast<std::size_t>(index)).width);
+  }
   /// The last added sample's values of dataset `index` (one value, or its columns).
   std::span<const double> last_sample(int index) const;
   /// Append the rows [first, end) of every signal dataset of `source` (a results file of the same layout,

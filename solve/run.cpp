@@ -161,7 +161,8 @@ RunSummary run_scene(Scene& scene, const RunOptions& options, const Provenance& 
         require_finite(model, ts, ys, yps);  // before it is written
         writer->add_sample(ts, scene, ys, yps);
         ++k;
-        if (steady && steady->add(steady_x(ts, ys), k - 1, *writer, log)) done = true;  // converged or max_cycles
+        if (steady && steady->add(steady_x(ts, ys), k - 1, *writer, log))
+          done = true;  // converged or max_cycles
         ++since_flush;
         // Many samples in one step (a high rate): written as they come, memory stays bounded. (At twice the
         // chunk: a normal run reaches one chunk only at the checkpoint after the step, which writes them.)

@@ -358,8 +358,9 @@ void SceneReader::read_clock(const Table& root) {
   if (steady) {  // the run ends when it has converged or after max_cycles ([steady_state], steady_state.hpp)
     for (const char* key : {"end_time", "end_angle_deg", "end_cycles"})
       if (c->has(key))
-        c->fail(key, "with [steady_state] the run ends when it has converged or after its max_cycles: remove " +
-                         std::string(key) + " (end_time_limit may bound the time)");
+        c->fail(key,
+                "with [steady_state] the run ends when it has converged or after its max_cycles: remove " +
+                    std::string(key) + " (end_time_limit may bound the time)");
     clock_cycle_deg_ = c->number_or("cycle_deg", 0.0, Range{0.0, bounds::kAngleDeg, true, false});
     s_.end_time = c->number_or("end_time_limit", 1e9, Range{s_.start_time, bounds::kTime, true, false});
     c->finish();

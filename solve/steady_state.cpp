@@ -38,7 +38,8 @@ bool split_channel(std::string name, std::string& path, int& column) {
   const auto open = name.rfind('[');
   if (open == std::string::npos || open + 2 > name.size() - 1) return false;
   const std::string digits = name.substr(open + 1, name.size() - open - 2);
-  if (digits.empty() || digits.size() > 6 || !std::all_of(digits.begin(), digits.end(), ::isdigit)) return false;
+  if (digits.empty() || digits.size() > 6 || !std::all_of(digits.begin(), digits.end(), ::isdigit))
+    return false;
   column = std::stoi(digits);
   path = name.substr(0, open);
   return !path.empty();
@@ -50,43 +51,52 @@ SteadyStateSettings read_steady_state(const input::Table& t, bool clock_markers,
   SteadyStateSettings s;
   s.channels = t.strings("channels");
   if (s.channels.empty())
-    t.fail("channels", "expected at least one result channel, e.g. [\"forces/mount/force\"] (a dataset's path in "
-                       "the results file, optionally with a column: \"markers/block.top/acceleration[2]\")");
+    t.fail("channels",
+           "expected at least one result channel, e.g. [\"forces/mount/force\"] (a dataset's path in "
+           "the results file, optionally with a column: \"markers/block.top/acceleration[2]\")");
   for (auto& c : s.channels) {
     std::string path;
     int column = 0;
     if (!split_channel(c, path, column))
-      t.fail("channels", "'" + c + "': expected a dataset path such as \"forces/mount/force\" or "
-                         "\"markers/block.top/acceleration[2]\"");
+      t.fail("channels", "'" + c +
+                             "': expected a dataset path such as \"forces/mount/force\" or "
+                             "\"markers/block.top/acceleration[2]\"");
     c = column < 0 ? path : path + "[" + std::to_string(column) + "]";
   }
   if (t.has("floors")) {
     s.floors = t.numbers("floors", Range::closed(0.0, bounds::kCoefficient));
     if (s.floors.size() != s.channels.size())
-      t.fail("floors", "expected one floor per channel (" + std::to_string(s.channels.size()) + "), in each channel's "
-                       "unit, got " + std::to_string(s.floors.size()));
+      t.fail("floors", "expected one floor per channel (" + std::to_string(s.channels.size()) +
+                           "), in each channel's "
+                           "unit, got " +
+                           std::to_string(s.floors.size()));
   } else {
     s.floors.assign(s.channels.size(), 0.0);
   }
   s.tolerance = t.number_or("tolerance", s.tolerance, Range::open(0.0, 1.0));
-  s.max_cycles = static_cast<int>(t.optional_integer("max_cycles", Range::closed(2, 1e6)).value_or(s.max_cycles));
-  s.keep_cycles = static_cast<int>(t.optional_integer("keep_cycles", Range::closed(1, 1e6)).value_or(s.keep_cycles));
+  s.max_cycles =
+      static_cast<int>(t.optional_integer("max_cycles", Range::closed(2, 1e6)).value_or(s.max_cycles));
+  s.keep_cycles =
+      static_cast<int>(t.optional_integer("keep_cycles", Range::closed(1, 1e6)).value_or(s.keep_cycles));
   if (s.keep_cycles > s.max_cycles)
-    t.fail("keep_cycles", "expected at most max_cycles = " + std::to_string(s.max_cycles) + " cycles to keep, got " +
-                              std::to_string(s.keep_cycles));
+    t.fail("keep_cycles", "expected at most max_cycles = " + std::to_string(s.max_cycles) +
+                              " cycles to keep, got " + std::to_string(s.keep_cycles));
   s.keep_history = t.optional_boolean("keep_history").value_or(false);
   if (clock_markers) {
     if (t.has("period"))
-      t.fail("period", "the scene's [clock] has markers: the cycle is a crank angle, give cycle_deg (default " +
-                           std::string(clock_cycle_deg > 0 ? "the [clock]'s cycle_deg" : "720") + ")");
+      t.fail("period",
+             "the scene's [clock] has markers: the cycle is a crank angle, give cycle_deg (default " +
+                 std::string(clock_cycle_deg > 0 ? "the [clock]'s cycle_deg" : "720") + ")");
     s.by_angle = true;
     s.cycle = t.number_or("cycle_deg", clock_cycle_deg > 0 ? clock_cycle_deg : 720.0,
                           Range{0.0, bounds::kAngleDeg, true, false});
   } else {
     if (t.has("cycle_deg"))
-      t.fail("cycle_deg", "a cycle of crank angle needs [clock] i and j markers; without them give period (s)");
+      t.fail("cycle_deg",
+             "a cycle of crank angle needs [clock] i and j markers; without them give period (s)");
     if (!t.has("period"))
-      t.fail("period", "expected the cycle's period in s (the scene's [clock] has no markers, so no crank angle)");
+      t.fail("period",
+             "expected the cycle's period in s (the scene's [clock] has no markers, so no crank angle)");
     s.by_angle = false;
     s.cycle = t.number("period", Range{0.0, 1e9, true, false});
   }
@@ -110,13 +120,15 @@ void check_steady_state_channels(const input::Table& t, const SteadyStateSetting
     }
     const int width = columns[static_cast<std::size_t>(it - paths.begin())];
     if (column >= 0 && column >= std::max(width, 1))
-      t.fail("channels", "'" + c + "': /" + path + " has " +
-                             (width == 0 ? std::string("one column (a vector: give no [k])")
-                                         : std::to_string(width) + " columns (0 to " + std::to_string(width - 1) + ")"));
+      t.fail("channels",
+             "'" + c + "': /" + path + " has " +
+                 (width == 0 ? std::string("one column (a vector: give no [k])")
+                             : std::to_string(width) + " columns (0 to " + std::to_string(width - 1) + ")"));
   }
 }
 
-SteadyStateMonitor::SteadyStateMonitor(const SteadyStateSettings& settings, const ResultsWriter& writer, double origin)
+SteadyStateMonitor::SteadyStateMonitor(const SteadyStateSettings& settings, const ResultsWriter& writer,
+                                       double origin)
     : s_(settings), origin_(origin) {
   for (const auto& c : s_.channels) {
     std::string path;
@@ -139,7 +151,8 @@ bool SteadyStateMonitor::add(double x, long row, const ResultsWriter& writer, co
   for (std::size_t c = 0; c < dataset_.size(); ++c) {
     const std::span<const double> v = writer.last_sample(dataset_[c]);
     for (int k = 0; k < columns_[c]; ++k)
-      scratch_[static_cast<std::size_t>(offset_[c] + k)] = v[static_cast<std::size_t>(first_column_[c] >= 0 ? first_column_[c] : k)];
+      scratch_[static_cast<std::size_t>(offset_[c] + k)] =
+          v[static_cast<std::size_t>(first_column_[c] >= 0 ? first_column_[c] : k)];
   }
   return add_values(x, row, scratch_, log);
 }
@@ -154,13 +167,16 @@ void SteadyStateMonitor::replay(const h5::Group& root, long rows, const Logger& 
     split_channel(c, path, column);
     std::vector<hsize_t> dims;
     const std::vector<double> all = root.read_array(path, dims);
-    const Eigen::Index n = static_cast<Eigen::Index>(dims.at(0)), w = dims.size() > 1 ? static_cast<Eigen::Index>(dims[1]) : 1;
-    data.push_back(Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(all.data(), n, w));
+    const Eigen::Index n = static_cast<Eigen::Index>(dims.at(0)),
+                       w = dims.size() > 1 ? static_cast<Eigen::Index>(dims[1]) : 1;
+    data.push_back(Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
+        all.data(), n, w));
   }
   for (long r = 0; r < rows; ++r) {
     for (std::size_t c = 0; c < data.size(); ++c)
       for (int k = 0; k < columns_[c]; ++k)
-        scratch_[static_cast<std::size_t>(offset_[c] + k)] = data[c](r, first_column_[c] >= 0 ? first_column_[c] : k);
+        scratch_[static_cast<std::size_t>(offset_[c] + k)] =
+            data[c](r, first_column_[c] >= 0 ? first_column_[c] : k);
     if (add_values(x[r], r, scratch_, log)) break;
   }
 }
@@ -186,12 +202,13 @@ bool SteadyStateMonitor::add_values(double x, long row, std::span<const double> 
 void SteadyStateMonitor::close_cycle(const Logger& log) {
   const int k = r_.cycles;
   const double c0 = k * s_.cycle, c1 = (k + 1) * s_.cycle, eps = 1e-9 * s_.cycle;
-  const auto in_cycle = std::count_if(xs_.begin(), xs_.end(), [&](double x) { return x >= c0 - eps && x < c1 - eps; });
+  const auto in_cycle =
+      std::count_if(xs_.begin(), xs_.end(), [&](double x) { return x >= c0 - eps && x < c1 - eps; });
   const std::string unit = s_.by_angle ? " deg" : " s";
   if (phases_ == 0) {
     if (in_cycle < kMinPhases)
-      throw Error("steady_state: the first cycle (" + sci(s_.cycle) + unit + ") holds only " + std::to_string(in_cycle) +
-                  " samples; expected at least " + std::to_string(kMinPhases) +
+      throw Error("steady_state: the first cycle (" + sci(s_.cycle) + unit + ") holds only " +
+                  std::to_string(in_cycle) + " samples; expected at least " + std::to_string(kMinPhases) +
                   ": raise [output] sample_rate_hz or lengthen the cycle");
     phases_ = static_cast<int>(in_cycle);
   } else if (in_cycle < 2) {
@@ -218,7 +235,8 @@ void SteadyStateMonitor::close_cycle(const Logger& log) {
     const double rms = std::sqrt(cols.squaredNorm() / count);
     largest_rms_[c] = std::max(largest_rms_[c], rms);
     if (k == 0) continue;
-    const double diff = std::sqrt((cols - previous_.middleCols(offset_[c], columns_[c])).squaredNorm() / count);
+    const double diff =
+        std::sqrt((cols - previous_.middleCols(offset_[c], columns_[c])).squaredNorm() / count);
     const double denominator = std::max({rms, kDecayedFloor * largest_rms_[c], s_.floors[c]});
     change[c] = denominator > 0 ? diff / denominator : 0.0;
   }
@@ -266,14 +284,15 @@ SteadyStateResult SteadyStateMonitor::result() const {
 void refuse_restart_of_steady_state_result(const std::filesystem::path& path) {
   const h5::File f = h5::File::open_read(path);
   if (f.root().exists("solver/steady_state"))
-    throw Error(path.string() + ": holds a finished steady-state result (/solver/steady_state): there is nothing to "
+    throw Error(path.string() +
+                ": holds a finished steady-state result (/solver/steady_state): there is nothing to "
                 "continue; run without --restart");
 }
 
 namespace {
 
-void write_record(h5::Group& root, const SteadyStateSettings& s, const SteadyStateResult& r, long first_sample,
-                  const std::string& message) {
+void write_record(h5::Group& root, const SteadyStateSettings& s, const SteadyStateResult& r,
+                  long first_sample, const std::string& message) {
   h5::Group g = root.create_group("solver/steady_state");
   g.set_attribute("converged", r.converged ? 1 : 0);
   g.set_attribute("cycles", r.cycles);
@@ -299,11 +318,11 @@ void write_record(h5::Group& root, const SteadyStateSettings& s, const SteadySta
 
 }  // namespace
 
-void write_steady_state_result(const std::filesystem::path& path, const Scene& scene, const Provenance& provenance,
-                               std::unique_ptr<ResultsWriter>& writer, const SteadyStateResult& r,
-                               const Checkpoint& final_state, const IntegratorStatistics& statistics,
-                               double wall_seconds, double max_position_drift, double max_velocity_drift,
-                               const Logger& log) {
+void write_steady_state_result(const std::filesystem::path& path, const Scene& scene,
+                               const Provenance& provenance, std::unique_ptr<ResultsWriter>& writer,
+                               const SteadyStateResult& r, const Checkpoint& final_state,
+                               const IntegratorStatistics& statistics, double wall_seconds,
+                               double max_position_drift, double max_velocity_drift, const Logger& log) {
   const SteadyStateSettings& s = *scene.steady_state;
   std::string message;
   std::string worst_channel = "-";
@@ -314,13 +333,14 @@ void write_steady_state_result(const std::filesystem::path& path, const Scene& s
       worst_channel = s.channels[c];
     }
   if (r.converged) {
-    message = "steady state reached after " + std::to_string(r.cycles) + " cycles (largest change " + sci(worst) +
-              " in " + worst_channel + ", tolerance " + sci(s.tolerance, 1) + ")";
+    message = "steady state reached after " + std::to_string(r.cycles) + " cycles (largest change " +
+              sci(worst) + " in " + worst_channel + ", tolerance " + sci(s.tolerance, 1) + ")";
     log.info(message);
   } else {
-    message = "steady state NOT reached after " + std::to_string(r.cycles) + " cycles (max_cycles = " +
-              std::to_string(s.max_cycles) + "): the largest change " + sci(worst) + " in " + worst_channel +
-              " is above the tolerance " + sci(s.tolerance, 1) + "; the last " + std::to_string(r.kept_cycles) +
+    message = "steady state NOT reached after " + std::to_string(r.cycles) +
+              " cycles (max_cycles = " + std::to_string(s.max_cycles) + "): the largest change " +
+              sci(worst) + " in " + worst_channel + " is above the tolerance " + sci(s.tolerance, 1) +
+              "; the last " + std::to_string(r.kept_cycles) +
               " cycle(s) are written anyway, with /solver/steady_state converged = 0";
     log.warning(message);
   }
@@ -360,8 +380,8 @@ void write_steady_state_result(const std::filesystem::path& path, const Scene& s
     throw;
   }
   unregister_temporary(temporary);
-  log.info("kept the last " + std::to_string(r.kept_cycles) + " cycle(s), " + std::to_string(r.kept_end - r.kept_first) +
-           " samples, in " + path.string());
+  log.info("kept the last " + std::to_string(r.kept_cycles) + " cycle(s), " +
+           std::to_string(r.kept_end - r.kept_first) + " samples, in " + path.string());
 }
 
 }  // namespace nvh::solve

@@ -42,12 +42,12 @@ void check_steady_state_channels(const input::Table& t, const SteadyStateSetting
 
 struct SteadyStateResult {
   bool converged = false;
-  int cycles = 0;                        // complete cycles run
-  std::vector<double> final_change;      // per channel, at the last compared cycle (NaN: none compared)
-  Eigen::MatrixXd change;                // (cycles - 1, channels): the change at the end of each cycle >= 2
-  std::vector<long> cycle_first_row;     // the first sample of each cycle (and of the one after the last)
-  std::vector<double> cycle_start;       // each cycle's start, in deg or s of the clock (absolute)
-  long kept_first = 0, kept_end = 0;     // the rows [first, end) of the kept cycles
+  int cycles = 0;                     // complete cycles run
+  std::vector<double> final_change;   // per channel, at the last compared cycle (NaN: none compared)
+  Eigen::MatrixXd change;             // (cycles - 1, channels): the change at the end of each cycle >= 2
+  std::vector<long> cycle_first_row;  // the first sample of each cycle (and of the one after the last)
+  std::vector<double> cycle_start;    // each cycle's start, in deg or s of the clock (absolute)
+  long kept_first = 0, kept_end = 0;  // the rows [first, end) of the kept cycles
   int kept_cycles = 0;
 };
 
@@ -74,15 +74,15 @@ class SteadyStateMonitor {
   SteadyStateSettings s_;
   double origin_;
   std::vector<int> dataset_, first_column_, columns_;  // per channel
-  std::vector<int> offset_;                             // per channel: its first value in a sample row
-  int width_ = 0;                                       // watched values per sample
-  std::vector<double> xs_;                              // samples of the open cycle (and the one before)
-  std::vector<double> values_;                          // row-major, width_ per sample
-  int phases_ = 0;                                      // N, from the first cycle
-  Eigen::MatrixXd previous_;                            // (phases, width) of the last cycle
-  std::vector<double> largest_rms_;                     // per channel, over the cycles so far
+  std::vector<int> offset_;                            // per channel: its first value in a sample row
+  int width_ = 0;                                      // watched values per sample
+  std::vector<double> xs_;                             // samples of the open cycle (and the one before)
+  std::vector<double> values_;                         // row-major, width_ per sample
+  int phases_ = 0;                                     // N, from the first cycle
+  Eigen::MatrixXd previous_;                           // (phases, width) of the last cycle
+  std::vector<double> largest_rms_;                    // per channel, over the cycles so far
   SteadyStateResult r_;
-  std::vector<std::vector<double>> changes_;            // per compared cycle, per channel
+  std::vector<std::vector<double>> changes_;  // per compared cycle, per channel
   long last_row_ = -1;
   bool done_ = false;
   std::vector<double> scratch_;
@@ -94,10 +94,10 @@ void refuse_restart_of_steady_state_result(const std::filesystem::path& path);
 /// After the run: write /solver/steady_state into the results file (the writer's), and unless keep_history
 /// replace the file by one holding only the kept cycles (written under a temporary name, renamed into place;
 /// the history file stays complete until then). `writer` is closed on return.
-void write_steady_state_result(const std::filesystem::path& path, const Scene& scene, const Provenance& provenance,
-                               std::unique_ptr<ResultsWriter>& writer, const SteadyStateResult& result,
-                               const Checkpoint& final_state, const IntegratorStatistics& statistics,
-                               double wall_seconds, double max_position_drift, double max_velocity_drift,
-                               const Logger& log);
+void write_steady_state_result(const std::filesystem::path& path, const Scene& scene,
+                               const Provenance& provenance, std::unique_ptr<ResultsWriter>& writer,
+                               const SteadyStateResult& result, const Checkpoint& final_state,
+                               const IntegratorStatistics& statistics, double wall_seconds,
+                               double max_position_drift, double max_velocity_drift, const Logger& log);
 
 }  // namespace nvh::solve

@@ -13,10 +13,10 @@ struct SteadyStateSettings {
   std::vector<double> floors;  // per channel, in its unit: the least RMS it is measured against (0: none)
   double tolerance = 1e-3;     // relative change from one cycle to the next
   int max_cycles = 50;
-  int keep_cycles = 1;         // the last cycles written as the result
-  bool keep_history = false;   // true: every sample stays in the file, the kept cycles are marked
-  bool by_angle = true;        // cycles of the clock's crank angle (cycle in deg), else of time (cycle in s)
-  double cycle = 720;          // deg or s
+  int keep_cycles = 1;        // the last cycles written as the result
+  bool keep_history = false;  // true: every sample stays in the file, the kept cycles are marked
+  bool by_angle = true;       // cycles of the clock's crank angle (cycle in deg), else of time (cycle in s)
+  double cycle = 720;         // deg or s
 };
 
 }  // namespace nvh::solve
