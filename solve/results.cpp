@@ -3,6 +3,8 @@
 #include <numbers>
 #include <set>
 
+#include <hdf5.h>
+
 #include "common/error.hpp"
 
 namespace nvh::solve {
@@ -66,6 +68,15 @@ std::string layout_signature(const Scene& s) {
 
 }  // namespace
 
+void result_datasets(const Scene& scene, std::vector<std::string>& paths, std::vector<int>& columns) {
+  paths.clear();
+  columns.clear();
+  for (const auto& sig : signals_of(scene)) {
+    paths.push_back(sig.path);
+    columns.push_back(sig.columns);
+  }
+}
+
 ResultsWriter ResultsWriter::create(const std::filesystem::path& path, const Scene& scene,
                                     const Provenance& provenance, const Checkpoint& start) {
   {
@@ -87,7 +98,7 @@ ResultsWriter ResultsWriter::create(const std::filesystem::path& path, const Sce
     h5::Group cp = root.create_group("checkpoint");
     // The first checkpoint goes in before the file appears under its name, so there is never a results file
     // that --restart refuses (a run killed in its first moments left "running" without a checkpoint).
-    const double no_samples = 0;
+    const double no_samples = static_cast<double>(start.samples);  // 0 but for a steady-state result
     cp.create_appendable("y", scene.model.size())
         .append({start.y.data(), static_cast<std::size_t>(start.y.size())});
     cp.create_appendable("yp", scene.model.size())
@@ -136,7 +147,8 @@ ResultsWriter ResultsWriter::reopen(const std::filesystem::path& path, const Sce
 void ResultsWriter::open_datasets(const Scene& scene) {
   h5::Group root = file_->root();
   channels_.clear();
-  for (const auto& sig : signals_of(scene)) channels_.push_back(Channel{root.open_appendable(sig.path), {}});
+  for (const auto& sig : signals_of(scene))
+    channels_.push_back(Channel{root.open_appendable(sig.path), {}, sig.path, std::max(1, sig.columns)});
   if (root.has_attribute("reference", "energy")) energy_reference_ = root.double_attribute("reference", "energy");
 }
 
@@ -277,6 +289,52 @@ void ResultsWriter::set_drift(double position, double velocity) {
   h5::Group g = file_->root().open_group("solver/statistics");
   g.set_attribute("max_position_drift", position);
   g.set_attribute("max_velocity_drift", velocity);
+  file_->flush();
+}
+
+int ResultsWriter::dataset_index(const std::string& path) const {
+  for (std::size_t i = 0; i < channels_.size(); ++i)
+    if (channels_[i].path == path) return static_cast<int>(i);
+  return -1;
+}
+
+std::span<const double> ResultsWriter::last_sample(int index) const {
+  const Channel& c = channels_.at(static_cast<std::size_t>(index));
+  const auto w = static_cast<std::size_t>(c.width);
+  if (c.buffer.size() < w) throw Error("results: internal error, no buffered sample of /" + c.path);
+  return {c.buffer.data() + c.buffer.size() - w, w};
+}
+
+void ResultsWriter::append_rows(const h5::Group& source, hsize_t first, hsize_t end) {
+  flush_samples();
+  std::vector<double> rows;
+  for (auto& c : channels_) {  // only the kept rows are read (a hyperslab): the history may be large
+    const auto w = static_cast<hsize_t>(c.width);
+    rows.resize((end - first) * w);
+    const hid_t ds = H5Dopen2(source.id(), c.path.c_str(), H5P_DEFAULT);
+    const hid_t space = ds < 0 ? -1 : H5Dget_space(ds);
+    const int rank = space < 0 ? -1 : H5Sget_simple_extent_ndims(space);
+    hsize_t dims[2] = {0, 0};
+    if (rank >= 1) H5Sget_simple_extent_dims(space, dims, nullptr);
+    const hsize_t start[2] = {first, 0}, count[2] = {end - first, w};
+    const hid_t memory = H5Screate_simple(rank, count, nullptr);
+    const bool ok = rank >= 1 && dims[0] >= end &&
+                    H5Sselect_hyperslab(space, H5S_SELECT_SET, start, nullptr, count, nullptr) >= 0 &&
+                    H5Dread(ds, H5T_NATIVE_DOUBLE, memory, space, H5P_DEFAULT, rows.data()) >= 0;
+    for (hid_t id : {memory, space})
+      if (id >= 0) H5Sclose(id);
+    if (ds >= 0) H5Dclose(ds);
+    if (!ok)
+      throw Error("results: cannot read the rows " + std::to_string(first) + " to " + std::to_string(end) +
+                  " of /" + c.path + " (the kept cycles)");
+    c.dataset.append(rows);
+    c.dataset.flush();
+  }
+  samples_ = written_ = samples_ + static_cast<long>(end - first);
+  if (source.has_attribute("reference", "energy")) {
+    energy_reference_ = source.double_attribute("reference", "energy");
+    file_->root().set_attribute("reference", *energy_reference_, "energy");
+  }
   file_->flush();
 }
 

@@ -4,8 +4,9 @@
 // until the end), and a checkpoint after every chunk from which `solve --restart` continues.
 #include <filesystem>
 #include <map>
-#include <optional>
 #include <memory>
+#include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -17,6 +18,10 @@ namespace nvh::solve {
 
 inline constexpr const char* kResultsFormat = "nvh-results";
 inline constexpr const char* kResultsFormatVersion = "1.0";
+
+/// The signal datasets the scene writes, in file order: their paths (no leading '/') and columns (0: a
+/// vector).
+void result_datasets(const Scene& scene, std::vector<std::string>& paths, std::vector<int>& columns);
 
 struct Checkpoint {
   double time = 0;
@@ -51,12 +56,28 @@ class ResultsWriter {
   /// The largest constraint drift seen at the checkpoints, as /solver/statistics attributes.
   void set_drift(double position, double velocity);
 
+  // For the periodic steady state (steady_state.hpp):
+  /// The index of the signal dataset at `path` (no leading '/'), or -1.
+  int dataset_index(const std::string& path) const;
+  /// Values per sample of dataset `index` (1 for a vector).
+  std::size_t dataset_width(int index) const {
+    return static_cast<std::size_t>(channels_.at(static_cast<std::size_t>(index)).width);
+  }
+  /// The last added sample's values of dataset `index` (one value, or its columns).
+  std::span<const double> last_sample(int index) const;
+  /// Append the rows [first, end) of every signal dataset of `source` (a results file of the same layout,
+  /// with its /energy reference) as samples; no checkpoint.
+  void append_rows(const h5::Group& source, hsize_t first, hsize_t end);
+  h5::Group root() { return file_->root(); }
+
  private:
   ResultsWriter() = default;
   void open_datasets(const Scene& scene);
   struct Channel {
     h5::AppendableDataset dataset;
     std::vector<double> buffer;
+    std::string path;
+    int width = 1;  // values per sample
   };
 
   std::unique_ptr<h5::File> file_;

@@ -8,6 +8,7 @@
 #include "common/error.hpp"
 #include "common/interrupt.hpp"
 #include "solve/results.hpp"
+#include "solve/steady_state.hpp"
 
 namespace nvh::solve {
 
@@ -65,6 +66,7 @@ RunSummary run_scene(Scene& scene, const RunOptions& options, const Provenance& 
     // Redundant equations are found again from the start configuration (the same scene gives the same set),
     // before the file is reopened (an interrupt in there leaves the file as it was).
     Eigen::VectorXd y_start, yp_start;
+    if (scene.steady_state) refuse_restart_of_steady_state_result(options.output);
     model.consistent_initial_state(scene.start_time, y_start, yp_start, log);
     angle_origin = model.crank_angle(y_start.data());
     Checkpoint cp;
@@ -84,6 +86,19 @@ RunSummary run_scene(Scene& scene, const RunOptions& options, const Provenance& 
     start.y = y;
     start.yp = yp;
     writer = std::make_unique<ResultsWriter>(ResultsWriter::create(options.output, scene, provenance, start));
+  }
+
+  // The periodic steady state: a monitor of the watched channels per cycle (steady_state.hpp); a restart
+  // feeds it the samples kept in the file first.
+  std::unique_ptr<SteadyStateMonitor> steady;
+  auto steady_x = [&](double t, const Eigen::VectorXd& ys) {
+    return scene.steady_state->by_angle ? model.crank_angle(ys.data()) * 180.0 / std::numbers::pi : t;
+  };
+  if (scene.steady_state) {
+    steady = std::make_unique<SteadyStateMonitor>(
+        *scene.steady_state, *writer,
+        scene.steady_state->by_angle ? angle_origin * 180.0 / std::numbers::pi : scene.start_time);
+    if (options.restart) steady->replay(writer->root(), first_sample, log);
   }
 
   auto integrator = make_integrator(model, scene.integrator, t0, y, yp);
@@ -124,7 +139,7 @@ RunSummary run_scene(Scene& scene, const RunOptions& options, const Provenance& 
   double last_detail = -1.0;
   bool stopped_inside_step = false;  // a signal stopped the sampling with samples of the step left
   try {
-    bool done = false;
+    bool done = steady && steady->done();  // a restart of a run that had converged before its last checkpoint
     while (!done) {
       const double target = sample_time(k);
       if (target > t_end + 1e-9 * dt) break;
@@ -146,6 +161,8 @@ RunSummary run_scene(Scene& scene, const RunOptions& options, const Provenance& 
         require_finite(model, ts, ys, yps);  // before it is written
         writer->add_sample(ts, scene, ys, yps);
         ++k;
+        if (steady && steady->add(steady_x(ts, ys), k - 1, *writer, log))
+          done = true;  // converged or max_cycles
         ++since_flush;
         // Many samples in one step (a high rate): written as they come, memory stays bounded. (At twice the
         // chunk: a normal run reaches one chunk only at the checkpoint after the step, which writes them.)
@@ -217,6 +234,15 @@ RunSummary run_scene(Scene& scene, const RunOptions& options, const Provenance& 
   std::string message = summary.status == "complete" ? "" : "stopped by a signal at t = " + std::to_string(summary.end_time) + " s; continue with --restart";
   writer->finish(summary.status, message, summary.statistics, summary.wall_seconds);
   writer->set_drift(summary.max_position_drift, summary.max_velocity_drift);
+  if (steady && summary.status == "complete") {  // the kept cycles become the result
+    Checkpoint final_state;
+    final_state.time = integrator->time();
+    integrator->state(final_state.y, final_state.yp);
+    summary.steady_state = steady->result();
+    write_steady_state_result(options.output, scene, provenance, writer, *summary.steady_state, final_state,
+                              summary.statistics, summary.wall_seconds, summary.max_position_drift,
+                              summary.max_velocity_drift, log);
+  }
   return summary;
 }
 

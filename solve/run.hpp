@@ -2,12 +2,14 @@
 // Running a scene: consistent start, the time loop with sampled output, checkpoints, progress, and clean
 // ends on failure or on SIGTERM/SIGINT.
 #include <filesystem>
+#include <optional>
 #include <string>
 
 #include "common/log.hpp"
 #include "common/progress.hpp"
 #include "common/provenance.hpp"
 #include "solve/scene.hpp"
+#include "solve/steady_state.hpp"
 
 namespace nvh::solve {
 
@@ -25,6 +27,7 @@ struct RunSummary {
   double wall_seconds = 0;
   double max_position_drift = 0;  // largest |Phi| over the checkpoints (m or rad)
   double max_velocity_drift = 0;  // largest |C w + Phi_t| over the checkpoints
+  std::optional<SteadyStateResult> steady_state;  // with [steady_state]: cycles, convergence, kept rows
 };
 
 /// Integrate `scene` and write the results file. Throws nvh::Error on a failed run after marking the file

@@ -1,11 +1,13 @@
 #pragma once
 // A scene: the model and how to run it, read from a TOML scene file (docs/scene-format.md).
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "solve/integrator.hpp"
 #include "solve/model.hpp"
+#include "solve/steady_state_settings.hpp"
 
 namespace nvh::solve {
 
@@ -27,6 +29,7 @@ struct Scene {
   std::vector<std::string> marker_names;  // "body.marker" for every MarkerRef in output order
   std::vector<MarkerRef> output_markers;
   std::vector<std::filesystem::path> input_files;  // the scene and every file it reads (provenance)
+  std::optional<SteadyStateSettings> steady_state;  // [steady_state]: run cycles until periodic
 };
 
 /// Read and check a scene file; every error names the file, line and key. Relative paths inside the scene

@@ -11,7 +11,9 @@
 #include "solve/cam/cam_profile.hpp"
 #include "solve/element_registry.hpp"
 #include "solve/flexible_body.hpp"
+#include "solve/results.hpp"
 #include "solve/scene.hpp"
+#include "solve/steady_state.hpp"
 
 namespace nvh::solve {
 namespace {
@@ -59,8 +61,15 @@ class SceneReader {
     for (const auto& f : root.table_array("force")) read_element(f, "force");
     for (const auto& l : root.table_array("load")) read_element(l, "load");
     read_clock(root);
+    read_steady_state_table(root);
     read_integrator(root);
     read_output(root);
+    if (steady_) {  // the watched channels must be datasets the results will hold
+      std::vector<std::string> paths;
+      std::vector<int> columns;
+      result_datasets(s_, paths, columns);
+      check_steady_state_channels(*steady_, *s_.steady_state, paths, columns);
+    }
     root.finish();
     s_.model.finalize();
   }
@@ -215,6 +224,7 @@ class SceneReader {
   void read_displacement_driver(const Table& t);
   void read_element(const Table& t, const std::string& section);
   void read_clock(const Table& root);
+  void read_steady_state_table(const Table& root);
   void read_integrator(const Table& root);
   void read_output(const Table& root);
 
@@ -224,6 +234,8 @@ class SceneReader {
   bool needs_clock_ = false;
   std::optional<Table> clock_user_;  // a load that needs the crank angle (for the message)
   std::optional<Table> clock_;       // the [clock] table (for messages about the run's length)
+  std::optional<Table> steady_;      // the [steady_state] table
+  double clock_cycle_deg_ = 0;       // [clock] cycle_deg with a steady state (0: not given)
 };
 
 void SceneReader::read_driver(const Table& t) {
@@ -325,8 +337,10 @@ void SceneReader::read_element(const Table& t, const std::string& section) {
 
 void SceneReader::read_clock(const Table& root) {
   const auto c = root.optional_table("clock");
+  const bool steady = root.has("steady_state");
   if (!c) {
     if (needs_clock_) clock_user_->fail("abscissa", "a load against crank angle needs a [clock] that defines the crank angle");
+    if (steady) return;  // a steady state over a period in s needs no clock: it sets the end
     root.fail("the scene needs a [clock] with end_time (s), or i/j markers and end_angle_deg or end_cycles");
   }
   clock_ = c;
@@ -341,6 +355,17 @@ void SceneReader::read_clock(const Table& root) {
     clock_user_->fail("abscissa", "a load against crank angle needs [clock] i and j markers (the crank's rotation)");
   }
   const int ends = c->has("end_time") + c->has("end_angle_deg") + c->has("end_cycles");
+  if (steady) {  // the run ends when it has converged or after max_cycles ([steady_state], steady_state.hpp)
+    for (const char* key : {"end_time", "end_angle_deg", "end_cycles"})
+      if (c->has(key))
+        c->fail(key,
+                "with [steady_state] the run ends when it has converged or after its max_cycles: remove " +
+                    std::string(key) + " (end_time_limit may bound the time)");
+    clock_cycle_deg_ = c->number_or("cycle_deg", 0.0, Range{0.0, bounds::kAngleDeg, true, false});
+    s_.end_time = c->number_or("end_time_limit", 1e9, Range{s_.start_time, bounds::kTime, true, false});
+    c->finish();
+    return;
+  }
   if (ends != 1) c->fail("give exactly one of end_time (s), end_angle_deg or end_cycles");
   if (c->has("end_time")) {
     s_.end_time = c->number("end_time", Range{s_.start_time, bounds::kTime, true, false});
@@ -357,6 +382,19 @@ void SceneReader::read_clock(const Table& root) {
   }
   c->accept("end_time_limit");
   c->finish();
+}
+
+void SceneReader::read_steady_state_table(const Table& root) {
+  steady_ = root.optional_table("steady_state");
+  if (!steady_) return;
+  s_.steady_state = read_steady_state(*steady_, s_.model.clock.has_value(), clock_cycle_deg_);
+  // The run's bound: one cycle past max_cycles (the monitor ends the run; the sample after the last cycle
+  // closes it).
+  const SteadyStateSettings& ss = *s_.steady_state;
+  if (ss.by_angle)
+    s_.end_angle_deg = (ss.max_cycles + 1) * ss.cycle;
+  else
+    s_.end_time = s_.start_time + (ss.max_cycles + 1) * ss.cycle;
 }
 
 void SceneReader::read_integrator(const Table& root) {
@@ -426,10 +464,12 @@ void SceneReader::read_output(const Table& root) {
   if (samples > bounds::kMaxSamples) {
     const auto output = root.optional_table("output");
     const bool at_rate = output && output->has("sample_rate_hz");
-    const Table& where = at_rate ? *output : *clock_;
-    where.fail(at_rate    ? "sample_rate_hz"
-               : by_angle ? "end_time_limit"
-                          : "end_time",
+    const bool at_steady = !at_rate && !by_angle && steady_;  // the end is max_cycles periods
+    const Table& where = at_rate ? *output : at_steady ? *steady_ : *clock_;
+    where.fail(at_rate     ? "sample_rate_hz"
+               : at_steady ? "max_cycles"
+               : by_angle  ? "end_time_limit"
+                           : "end_time",
                "the run from " + format_number(s_.start_time) + " s to " + format_number(s_.end_time) +
                    " s at " + format_number(o.sample_rate_hz) + " Hz gives " + format_number(samples) +
                    " samples, more than the limit of " + format_number(bounds::kMaxSamples) +
