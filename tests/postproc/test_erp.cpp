@@ -115,7 +115,9 @@ class ErpTest : public ::testing::Test {
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }
-  void TearDown() override { fs::remove_all(dir_); }
+  void TearDown() override {
+    if (!std::getenv("NVH_KEEP_TEST_FILES")) fs::remove_all(dir_);
+  }
 
   /// Write the inputs, run the analysis, open its output.
   h5::File run(const SurfaceExport& surface, int modes, const Eigen::MatrixXd& eta_dot, double fs,
@@ -260,7 +262,8 @@ TEST_F(ErpTest, NormalVelocityIsTheModalSuperpositionOfTheModalVelocities) {
 
 TEST_F(ErpTest, BaffledCircularPistonAtHighKaRadiatesItsErp) {
   // A rigid piston of radius a in a baffle, uniform normal velocity v sin(omega t). Rayleigh integral, closed
-  // form (Kinsler et al., "Fundamentals of Acoustics", 4th ed., eq. 7.5.13; Morse & Ingard 1968, 7.4):
+  // form (Kinsler, Frey, Coppens, Sanders, "Fundamentals of Acoustics", 4th ed., section 7.5: radiation
+  // resistance rho c pi a^2 R_1(2ka), R_1(x) = 1 - 2 J_1(x) / x):
   //   W = 1/2 rho c pi a^2 v^2 (1 - J1(2ka) / (ka)),
   // so the radiation efficiency 1 - J1(2ka)/(ka) -> 1 at ka >> 1; it lies above 1 where J1(2ka) < 0.
   // The piston face: rings of nodes, each node a sector of its ring (areas exact: sum = pi a^2).
@@ -356,9 +359,12 @@ TEST_F(ErpTest, CommandLineWritesHdf5AndCsvAndRefusesABadRegion) {
   const std::string base = std::string(NVH_POSTPROC_EXE) + " erp " + (dir_ / "results.h5").string() +
                            " --superelement " + (dir_ / "se.h5").string() + " --body block -q -o " +
                            (dir_ / "cli.h5").string();
-  ASSERT_EQ(std::system(
-                (base + " --csv " + (dir_ / "csv").string() + " --region 'edge=-1,-1,-1,0.05,1,1'").c_str()),
+  const std::string plots = (dir_ / "plots").string();
+  ASSERT_EQ(std::system((base + " --csv " + (dir_ / "csv").string() + " --plot " + plots +
+                         " --region 'edge=-1,-1,-1,0.05,1,1' > /dev/null")
+                            .c_str()),
             0);
+  EXPECT_TRUE(fs::exists(dir_ / "plots" / "erp_block.png"));
   h5::File out = h5::File::open_read(dir_ / "cli.h5");
   EXPECT_EQ(out.root().string_attribute("analysis"), "erp");
   EXPECT_TRUE(out.root().has_attribute("input_sha256"));
