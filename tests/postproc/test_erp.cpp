@@ -107,7 +107,7 @@ SurfaceExport plate(int n, int modes, const std::function<Eigen::Vector3d(int no
   return s;
 }
 
-class ErpTest : public ::testing::Test {
+class postproc_erp : public ::testing::Test {
  protected:
   void SetUp() override {
     dir_ = fs::temp_directory_path() / ("nvh_erp_" + std::to_string(::getpid()) + "_" +
@@ -147,7 +147,7 @@ class ErpTest : public ::testing::Test {
   Logger log_{sink_, "postproc", Verbosity::kQuiet};
 };
 
-TEST_F(ErpTest, RigidPlateMovingUniformlyRadiatesHalfRhoCAvSquared) {
+TEST_F(postproc_erp, RigidPlateMovingUniformlyRadiatesHalfRhoCAvSquared) {
   // One "mode" whose shape is a unit translation along the normal: every node moves with v sin(2 pi f t).
   const double fs = 8192.0, f = 500.0, v = 2.5e-3;
   const SurfaceExport s = plate(6, 1, [](int, int) { return Eigen::Vector3d(0.0, 0.0, 1.0); });
@@ -179,7 +179,7 @@ TEST_F(ErpTest, RigidPlateMovingUniformlyRadiatesHalfRhoCAvSquared) {
   EXPECT_NEAR(r.read_vector("velocity_level_db")[b], g.read_vector("velocity_level_db")[b], 1e-9);
 }
 
-TEST_F(ErpTest, SingleModesErpEqualsTheHandSumOverItsSurface) {
+TEST_F(postproc_erp, SingleModesErpEqualsTheHandSumOverItsSurface) {
   // A curved, unevenly meshed surface: varying normals and areas; two modes with unrelated shapes, only the
   // second one moving, so that a mix-up of columns shows.
   const int nodes = 9, modes = 2;
@@ -213,7 +213,7 @@ TEST_F(ErpTest, SingleModesErpEqualsTheHandSumOverItsSurface) {
   EXPECT_NEAR(g.read_double("overall_erp_w") / hand, 1.0, 1e-12);
 }
 
-TEST_F(ErpTest, NormalVelocityIsTheModalSuperpositionOfTheModalVelocities) {
+TEST_F(postproc_erp, NormalVelocityIsTheModalSuperpositionOfTheModalVelocities) {
   const int nodes = 5, modes = 3, samples = 1024;
   SurfaceExport s;
   s.position = Eigen::MatrixXd::Zero(nodes, 3);
@@ -260,7 +260,7 @@ TEST_F(ErpTest, NormalVelocityIsTheModalSuperpositionOfTheModalVelocities) {
   }
 }
 
-TEST_F(ErpTest, BaffledCircularPistonAtHighKaRadiatesItsErp) {
+TEST_F(postproc_erp, BaffledCircularPistonAtHighKaRadiatesItsErp) {
   // A rigid piston of radius a in a baffle, uniform normal velocity v sin(omega t). Rayleigh integral, closed
   // form (Kinsler, Frey, Coppens, Sanders, "Fundamentals of Acoustics", 4th ed., section 7.5: radiation
   // resistance rho c pi a^2 R_1(2ka), R_1(x) = 1 - 2 J_1(x) / x):
@@ -312,7 +312,7 @@ TEST_F(ErpTest, BaffledCircularPistonAtHighKaRadiatesItsErp) {
   }
 }
 
-TEST_F(ErpTest, BadInputsAreNamedAndLeaveNoOutput) {
+TEST_F(postproc_erp, BadInputsAreNamedAndLeaveNoOutput) {
   const SurfaceExport s = plate(2, 1, [](int, int) { return Eigen::Vector3d(0.0, 0.0, 1.0); });
   const Eigen::MatrixXd eta = sine_velocities({1.0}, 100.0, 1024.0, 1024);
   auto expect_error = [&](ErpCommand command, const std::string& part) {
@@ -352,7 +352,7 @@ TEST_F(ErpTest, BadInputsAreNamedAndLeaveNoOutput) {
   EXPECT_EQ(r.upper.z(), -0.3);
 }
 
-TEST_F(ErpTest, CommandLineWritesHdf5AndCsvAndRefusesABadRegion) {
+TEST_F(postproc_erp, CommandLineWritesHdf5AndCsvAndRefusesABadRegion) {
   const SurfaceExport s = plate(4, 1, [](int, int) { return Eigen::Vector3d(0.0, 0.0, 1.0); });
   write_superelement(dir_ / "se.h5", superelement_with(s, 1), make_provenance("test", 0, nullptr, {}));
   write_results(dir_ / "results.h5", "block", sine_velocities({1e-3}, 250.0, 2048.0, 2048), 2048.0);
