@@ -1,5 +1,6 @@
 #include "postproc/surface_radiation.hpp"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -38,6 +39,29 @@ Eigen::MatrixXd observer_normal_shapes(const PointSet& observers, int modes) {
     psi.row(p) = observers.normals.row(p) * shape.topLeftCorner(3, modes);
   }
   return psi;
+}
+
+Eigen::MatrixXd rigid_normal_shapes(const Eigen::MatrixXd& position, const Eigen::MatrixXd& normal) {
+  Eigen::MatrixXd psi(position.rows(), 6);
+  for (Eigen::Index k = 0; k < position.rows(); ++k) {
+    const Eigen::Vector3d r = position.row(k).transpose(), n = normal.row(k).transpose();
+    psi.block<1, 3>(k, 0) = n.transpose();
+    psi.block<1, 3>(k, 3) = r.cross(n).transpose();
+  }
+  return psi;
+}
+
+Eigen::Matrix<double, 6, 1> body_frame_velocity(const Eigen::Vector3d& velocity, const Eigen::Vector3d& omega,
+                                                const Eigen::Vector4d& euler_parameters) {
+  const double e0 = euler_parameters[0];
+  const Eigen::Vector3d e = euler_parameters.tail<3>();
+  Eigen::Matrix3d skew;
+  skew << 0, -e.z(), e.y(), e.z(), 0, -e.x(), -e.y(), e.x(), 0;
+  const Eigen::Matrix3d a =
+      (2 * e0 * e0 - 1) * Eigen::Matrix3d::Identity() + 2 * (e * e.transpose() + e0 * skew);
+  Eigen::Matrix<double, 6, 1> out;
+  out << a.transpose() * velocity, a.transpose() * omega;
+  return out;
 }
 
 Eigen::MatrixXd normal_velocity(const Eigen::MatrixXd& modal_velocities,

@@ -6,7 +6,11 @@
 // so the normal velocity of surface node k, relative to that frame, is the modal superposition
 //   v_n,k(t) = n_k . (Phi_k eta'(t)) = sum_j Psi_kj eta'_j(t),   Psi_kj = n_k . Phi_k,j             (1)
 // with n_k the outward unit normal and Phi_k,j the translation of node k per unit of coordinate j
-// (/surface/shape of docs/hdf5-format.md). Rigid-body motion of the frame is not included.
+// (/surface/shape of docs/hdf5-format.md). The motion of the frame itself (the block rocking on its mounts)
+// adds, with v_O the frame origin's velocity and omega the angular velocity, both in body axes,
+//   v_n,k^rigid = n_k . (v_O + omega x r_k) = n_k . v_O + (r_k x n_k) . omega                       (1a)
+// (r_k the undeformed position in the component frame; the deflection's share of the lever arm is neglected),
+// linear in six "rigid coordinates" (v_O, omega): the same superposition with six more columns of Psi.
 //
 // Its one-sided power spectral density per node by Welch's method (the same segments, windows and
 // scaling as postproc spectrum, Heinzel, Ruediger, Schilling 2002, eq. 24):
@@ -43,6 +47,15 @@ Eigen::MatrixXd surface_normal_shapes(const SurfaceExport& surface, int modes);
 /// Psi of eq. (1) for observation points with normals (volume components' /observe/normal): n_p . the
 /// translation rows of /observe/shape. Empty if the points carry no normals.
 Eigen::MatrixXd observer_normal_shapes(const PointSet& observers, int modes);
+
+/// The six columns of eq. (1a) per point (points x 6): [n_k, r_k x n_k] for (v_O, omega) in body axes.
+Eigen::MatrixXd rigid_normal_shapes(const Eigen::MatrixXd& position, const Eigen::MatrixXd& normal);
+
+/// (v_O, omega) in body axes (6) from solve's frame origin velocity and angular velocity (global axes) and
+/// Euler parameters p = [e0, e1, e2, e3] (body -> global): A^T v, A^T omega with
+/// A(p) = (2 e0^2 - 1) I + 2 (e e^T + e0 e~) (Nikravesh 1988, eq. 6.19; solve/rotation.hpp).
+Eigen::Matrix<double, 6, 1> body_frame_velocity(const Eigen::Vector3d& velocity, const Eigen::Vector3d& omega,
+                                                const Eigen::Vector4d& euler_parameters);
 
 /// v_n of eq. (1) at every sample: (samples x points) = eta' (samples x modes) Psi^T.
 Eigen::MatrixXd normal_velocity(const Eigen::MatrixXd& modal_velocities,

@@ -181,7 +181,23 @@ void run_erp(const ErpCommand& command, const Logger& log, int argc, const char*
   check_output_writable(common.output);
   if (common.csv_dir) check_output_directory(*common.csv_dir);
 
+  // With --include-rigid: the frame's velocity, angular velocity (global axes) and Euler parameters, sampled
+  // with the modal velocities (solve writes them for every body).
+  std::vector<SignalSource> frame;
+  if (command.include_rigid) {
+    const std::string body = command.results.string() + ":/bodies/" + command.body + "/";
+    for (const auto& [dataset, columns] :
+         {std::pair{"velocity", 3}, {"angular_velocity", 3}, {"euler_parameters", 4}})
+      for (int c = 0; c < columns; ++c)
+        frame.push_back(SignalSource::open(body + dataset + "[" + std::to_string(c) + "]"));
+    for (const SignalSource& s : frame)
+      if (s.size() != modal.front().size() || s.info().sample_rate_hz != modal.front().info().sample_rate_hz)
+        throw Error("erp: '" + s.info().address + "' (" + std::to_string(s.size()) +
+                    " samples) is not sampled with the modal velocities (" +
+                    std::to_string(modal.front().size()) + " samples)");
+  }
   for (SignalSource& s : modal) apply_window(s, common.window, nullptr, 0.0, common.block, log);
+  for (SignalSource& s : frame) apply_window(s, common.window, nullptr, 0.0, common.block, log);
   std::future<Provenance> provenance = start_provenance({command.results, command.superelement}, argc, argv);
   const SignalInfo& info = modal.front().info();
   const double fs = info.sample_rate_hz;
@@ -196,8 +212,16 @@ void run_erp(const ErpCommand& command, const Logger& log, int argc, const char*
   // Surface nodes, then observation points with normals: one Psi (eq. 1).
   const Eigen::MatrixXd psi_surface = surface_normal_shapes(surface, static_cast<int>(modes));
   const Eigen::MatrixXd psi_observe = observer_normal_shapes(se.observers, static_cast<int>(modes));
-  Eigen::MatrixXd psi(nodes + psi_observe.rows(), modes);
-  psi << psi_surface, psi_observe;
+  const Eigen::Index rigid = command.include_rigid ? 6 : 0;  // (v_O, omega) in body axes, eq. (1a)
+  Eigen::MatrixXd psi(nodes + psi_observe.rows(), modes + rigid);
+  psi.topLeftCorner(nodes, modes) = psi_surface;
+  psi.bottomLeftCorner(psi_observe.rows(), modes) = psi_observe;
+  if (rigid) {
+    psi.topRightCorner(nodes, 6) = rigid_normal_shapes(surface.position, surface.normal);
+    if (psi_observe.rows() > 0)
+      psi.bottomRightCorner(psi_observe.rows(), 6) =
+          rigid_normal_shapes(se.observers.position, se.observers.normals);
+  }
   NormalVelocityWelch welch(fs, n, command.window, command.overlap, psi);
   {
     std::vector<double> column;
@@ -205,10 +229,22 @@ void run_erp(const ErpCommand& command, const Logger& log, int argc, const char*
     for (std::int64_t offset = 0; offset < info.size; offset += common.block) {
       const std::int64_t count = std::min(common.block, info.size - offset);
       column.resize(static_cast<std::size_t>(count));
-      block.resize(count, modes);
+      block.resize(count, modes + rigid);
       for (Eigen::Index j = 0; j < modes; ++j) {
         modal[static_cast<std::size_t>(j)].read(offset, column);
         block.col(j) = Eigen::Map<const Eigen::VectorXd>(column.data(), count);
+      }
+      if (rigid) {
+        Eigen::MatrixXd global(count, 10);  // v (3), omega (3), p (4)
+        for (std::size_t c = 0; c < frame.size(); ++c) {
+          frame[c].read(offset, column);
+          global.col(static_cast<Eigen::Index>(c)) = Eigen::Map<const Eigen::VectorXd>(column.data(), count);
+        }
+        for (Eigen::Index i = 0; i < count; ++i)
+          block.block<1, 6>(i, modes) =
+              body_frame_velocity(global.block<1, 3>(i, 0).transpose(), global.block<1, 3>(i, 3).transpose(),
+                                  global.block<1, 4>(i, 6).transpose())
+                  .transpose();
       }
       welch.push(block);
     }
@@ -251,9 +287,13 @@ void run_erp(const ErpCommand& command, const Logger& log, int argc, const char*
   g.set_attribute("modes", static_cast<std::int64_t>(modes));
   g.set_attribute("surface_nodes", static_cast<std::int64_t>(nodes));
   g.set_attribute("surface_area_m2", surface.area.sum());
-  g.set_attribute("velocity_frame",
-                  "normal velocity relative to the body's floating frame (elastic part, eq. v_n = n . Phi "
-                  "eta'); rigid-body motion of the frame excluded");
+  g.set_attribute(
+      "velocity_frame",
+      command.include_rigid
+          ? "absolute normal velocity: elastic part n . Phi eta' plus the frame's rigid-body motion "
+            "n . (v_O + omega x r)"
+          : "normal velocity relative to the body's floating frame (elastic part, v_n = n . Phi "
+            "eta'); rigid-body motion of the frame excluded");
   g.set_attribute("density_kg_m3", command.density_kg_m3);
   g.set_attribute("sound_speed_m_s", command.sound_speed_m_s);
   g.set_attribute("rho_c_kg_m2_s", rho_c);
@@ -421,6 +461,8 @@ class ErpAnalysis final : public Analysis {
     e.add_option("--region", regions_,
                  "NAME=xmin,ymin,zmin,xmax,ymax,zmax: a surface region (box, m, component axes); repeatable");
     e.add_flag("--node-spectra", command_.node_spectra, "also write the velocity PSD of every surface node");
+    e.add_flag("--include-rigid", command_.include_rigid,
+               "add the frame's rigid-body motion (the block on its mounts) to the elastic normal velocity");
   }
 
   void run(const Logger& log, int argc, const char* const* argv) override {

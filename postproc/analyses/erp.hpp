@@ -30,6 +30,7 @@ struct ErpCommand {
   double sound_speed_m_s = kAirSoundSpeed;  ///< c of the fluid
   std::vector<SurfaceRegion> regions;
   bool node_spectra = false;  ///< also write the PSD of every surface node
+  bool include_rigid = false;  ///< add the frame's rigid-body motion (eq. 1a of surface_radiation.hpp)
 };
 
 /// Runs the analysis and writes `common.output`; an error leaves no output.

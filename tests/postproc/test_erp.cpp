@@ -19,6 +19,8 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Geometry>
+
 #include "common/error.hpp"
 #include "common/hdf5.hpp"
 #include "common/provenance.hpp"
@@ -350,6 +352,55 @@ TEST_F(postproc_erp, BadInputsAreNamedAndLeaveNoOutput) {
   const SurfaceRegion r = parse_region("oil_pan=-0.2,-0.1,-0.5,0.2,0.1,-0.3");
   EXPECT_EQ(r.name, "oil_pan");
   EXPECT_EQ(r.upper.z(), -0.3);
+}
+
+TEST_F(postproc_erp, IncludeRigidAddsTheFramesTranslationAndRotationInBodyAxes) {
+  // The plate of the first test, elastically at rest; its frame turned 60 deg about global x, translating
+  // along d = (0, -1, 1) with v sin(2 pi f1 t) and rocking about x with w sin(2 pi f2 t). Every node's
+  // normal is the body z axis, A e_z in global axes (A from Eigen's angle-axis, not from the Euler
+  // parameters): the translation gives v_n = v d . A e_z (a transposed A would give v d . A^T e_z, another
+  // number); the rotation about the body x axis gives v_n,k = w y_k.
+  const double fs = 8192.0, f1 = 500.0, f2 = 1000.0, v = 2e-3, w = 0.05, angle = kPi / 3.0;
+  const Eigen::Vector3d d(0.0, -1.0, 1.0);
+  const SurfaceExport s = plate(6, 1, [](int, int) { return Eigen::Vector3d(0.0, 0.0, 1.0); });
+  const int samples = 8192;
+  write_superelement(dir_ / "se.h5", superelement_with(s, 1), make_provenance("test", 0, nullptr, {}));
+  write_results(dir_ / "results.h5", "block", Eigen::MatrixXd::Zero(samples, 1), fs);
+  {
+    h5::File file = h5::File::open_append(dir_ / "results.h5");
+    h5::Group b = file.root().open_group("bodies/block");
+    Eigen::MatrixXd vel = Eigen::MatrixXd::Zero(samples, 3), omega = vel, p(samples, 4);
+    for (int i = 0; i < samples; ++i) {
+      vel.row(i) = v * std::sin(2.0 * kPi * f1 * i / fs) * d.transpose();
+      omega(i, 0) = w * std::sin(2.0 * kPi * f2 * i / fs);
+      p.row(i) << std::cos(angle / 2.0), std::sin(angle / 2.0), 0.0, 0.0;
+    }
+    b.write("velocity", vel);
+    b.write("angular_velocity", omega);
+    b.write("euler_parameters", p);
+  }
+  ErpCommand command;
+  command.results = dir_ / "results.h5";
+  command.superelement = dir_ / "se.h5";
+  command.body = "block";
+  command.common.output = dir_ / "erp.h5";
+  command.include_rigid = true;
+  run_erp(command, log_, 0, nullptr);
+  h5::File out = h5::File::open_read(dir_ / "erp.h5");
+  const h5::Group g = out.root().open_group("erp/block");
+  const Eigen::VectorXd bin = g.read_vector("erp_bin_w");
+  const double rho_c = 1.204 * 343.2;
+  double rocking = 0.0;
+  for (Eigen::Index k = 0; k < s.area.size(); ++k)
+    rocking += 0.5 * rho_c * s.area[k] * std::pow(w * s.position(k, 1), 2);
+  const double vn = v * d.dot(Eigen::AngleAxisd(angle, Eigen::Vector3d::UnitX()) * Eigen::Vector3d::UnitZ());
+  EXPECT_NEAR(bin[static_cast<Eigen::Index>(f1)] / (0.5 * rho_c * s.area.sum() * vn * vn), 1.0, 1e-9);
+  EXPECT_NEAR(bin[static_cast<Eigen::Index>(f2)] / rocking, 1.0, 1e-9);
+  // Without the option the elastic part alone is zero.
+  fs::remove(dir_ / "erp.h5");
+  command.include_rigid = false;
+  run_erp(command, log_, 0, nullptr);
+  EXPECT_LT(h5::File::open_read(dir_ / "erp.h5").root().read_double("erp/block/overall_erp_w"), 1e-30);
 }
 
 TEST_F(postproc_erp, CommandLineWritesHdf5AndCsvAndRefusesABadRegion) {
