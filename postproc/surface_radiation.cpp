@@ -120,9 +120,15 @@ void NormalVelocityWelch::process_segment(std::int64_t first_row) {
       h_im_(k, j) = out[k].imag();
     }
   }
-  // V = H Psi^T (eq. 2), real and imaginary parts as two real products.
-  const Eigen::MatrixXd v_re = h_re_ * psi_t_, v_im = h_im_ * psi_t_;
-  power_sum_.array() += v_re.array().square() + v_im.array().square();
+  // V = H Psi^T (eq. 2), real and imaginary parts as two real products, a block of points at a time so that
+  // the temporaries stay small (bins x 1024) on a surface of many nodes.
+  constexpr Eigen::Index kPoints = 1024;
+  for (Eigen::Index p0 = 0; p0 < psi_t_.cols(); p0 += kPoints) {
+    const Eigen::Index count = std::min(kPoints, psi_t_.cols() - p0);
+    v_re_.noalias() = h_re_ * psi_t_.middleCols(p0, count);
+    v_im_.noalias() = h_im_ * psi_t_.middleCols(p0, count);
+    power_sum_.middleCols(p0, count).array() += v_re_.array().square() + v_im_.array().square();
+  }
   ++averages_;
 }
 

@@ -89,6 +89,7 @@ class NormalVelocityWelch {
   std::vector<double> pending_;  // samples not yet consumed, row-major (samples x modes)
   std::int64_t pending_rows_ = 0;
   Eigen::MatrixXd h_re_, h_im_;  // DFT of the windowed segment per mode (bins x modes)
+  Eigen::MatrixXd v_re_, v_im_;  // DFT of the normal velocity of a block of points (bins x block)
   Eigen::MatrixXd power_sum_;    // sum over segments of |V|^2 (bins x points)
   std::int64_t averages_ = 0;
 };
