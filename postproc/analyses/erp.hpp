@@ -29,7 +29,7 @@ struct ErpCommand {
   double density_kg_m3 = kAirDensity;       ///< rho of the fluid
   double sound_speed_m_s = kAirSoundSpeed;  ///< c of the fluid
   std::vector<SurfaceRegion> regions;
-  bool node_spectra = false;  ///< also write the PSD of every surface node
+  bool node_spectra = false;   ///< also write the PSD of every surface node
   bool include_rigid = false;  ///< add the frame's rigid-body motion (eq. 1a of surface_radiation.hpp)
 };
 
