@@ -18,7 +18,7 @@
 namespace {
 
 constexpr const char* kDescription =
-    R"(postproc - spectra, 1/3-octave levels, orders and statistics (step 3 of 3: condense -> solve -> postproc)
+    R"(postproc - spectra, 1/3-octave levels, orders, statistics, surface ERP (step 3 of 3: condense -> solve -> postproc)
 
 Signals (docs/postproc.md section 2):
   FILE.h5:/dataset                  1-D dataset; sample rate from a 'sample_rate_hz' attribute on it or a
@@ -29,6 +29,7 @@ Signals (docs/postproc.md section 2):
   NAME=ADDRESS                      name the signal NAME in the outputs
 Each subcommand writes one HDF5 file (-o) with /spectrum, /octave, /orders or /stats groups per signal,
 units and dB references as attributes and provenance; --csv DIR adds CSV tables, --plot DIR PNG figures.
+erp reads a results file and a superelement instead of signals (postproc erp --help).
 
 Exit codes: 0 success; 1 bad input or failed run (the message names the signal, file and what was
 expected; no output is written); 2 bad command line; 3 interrupted.)";
