@@ -3,6 +3,8 @@ find_package(Eigen3 3.4 REQUIRED CONFIG)
 find_package(Spectra 1.0 REQUIRED CONFIG)
 find_package(CLI11 REQUIRED CONFIG)
 find_package(toml11 REQUIRED CONFIG)
+# libcrypto (libssl-dev): SHA-256 of the provenance (common/sha256.cpp), target OpenSSL::Crypto.
+find_package(OpenSSL REQUIRED COMPONENTS Crypto)
 
 # The serial HDF5 (the MPI build comes in with SUNDIALS; never use pkg-config "hdf5").
 find_package(HDF5 REQUIRED COMPONENTS C)

@@ -1,5 +1,5 @@
 #pragma once
-// SHA-256 (FIPS 180-4), for input hashes in provenance. Small and dependency-free.
+// SHA-256 (FIPS 180-4), for input hashes in provenance; computed by OpenSSL's libcrypto (EVP).
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>

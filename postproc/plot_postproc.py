@@ -12,6 +12,8 @@ reference (read from the file's attributes):
   order_cuts_<signal>.png    the strongest orders against rpm
   campbell_<signal>.png      rpm x frequency colour map with order lines, when present
   order_cut_files.png        mean order amplitudes of several files against their rpm (orders --cut)
+  erp_<body>.png             ERP per band (bars) with each region's contribution, and the area-mean
+                             surface velocity level (postproc erp)
 """
 import os
 import sys
@@ -147,6 +149,40 @@ def plot_orders(group, outdir):
             save(fig, outdir, f"campbell_{name}.png")
 
 
+def plot_erp(group, outdir):
+    for name, g in group.items():
+        nominal = g["nominal_hz"][()]
+        erp = g["erp_level_db"][()]
+        velocity = g["velocity_level_db"][()]
+        x = np.arange(len(nominal))
+        labels = [f"{v:g}" for v in nominal]
+        fig, (ax, bx) = plt.subplots(2, 1, figsize=(10, 8), sharex=True)
+        bottom = min(erp.min(), min((r["erp_level_db"][()].min() for r in g.get("regions", {}).values()),
+                                    default=erp.min())) - 10
+        bottom = max(bottom, erp.max() - 100)  # 100 dB of range: round-off floors stay off the chart
+        ax.bar(x, erp - bottom, bottom=bottom, color="lightgray", label="whole surface")
+        for region, r in g.get("regions", {}).items():
+            ax.plot(x, r["erp_level_db"][()], "o-", label=region)
+        ax.set_ylim(bottom, erp.max() + 5)
+        ax.set_ylabel(f"ERP [{text(g['erp_level_db'].attrs['units'])}]")
+        overall = float(g["overall_erp_level_db"][()])
+        ax.set_title(f"{name}: equivalent radiated power, 1/{g.attrs['fraction']} octaves, overall "
+                     f"{overall:.1f} dB (rho c = {g.attrs['rho_c_kg_m2_s']:.1f} kg/(m^2 s))")
+        ax.grid(True, axis="y", alpha=0.3)
+        ax.legend(fontsize=8)
+        bx.plot(x, velocity, "k.-", label="whole surface (area mean)")
+        for region, r in g.get("regions", {}).items():
+            bx.plot(x, r["velocity_level_db"][()], ".-", label=region)
+        bx.set_ylim(max(velocity.min(), velocity.max() - 100) - 5, velocity.max() + 5)
+        bx.set_ylabel(f"normal velocity [{text(g['velocity_level_db'].attrs['units'])}]")
+        bx.set_xticks(x)
+        bx.set_xticklabels(labels, rotation=90)
+        bx.set_xlabel("band, nominal mid-band frequency [Hz]")
+        bx.grid(True, axis="y", alpha=0.3)
+        bx.legend(fontsize=8)
+        save(fig, outdir, f"erp_{name}.png")
+
+
 def main():
     if len(sys.argv) != 3:
         sys.exit(__doc__)
@@ -159,6 +195,8 @@ def main():
             plot_octaves(f["octave"], outdir)
         if "orders" in f:
             plot_orders(f["orders"], outdir)
+        if "erp" in f:
+            plot_erp(f["erp"], outdir)
 
 
 if __name__ == "__main__":

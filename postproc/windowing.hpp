@@ -1,0 +1,28 @@
+#pragma once
+// Applying the analysis window to an opened signal (docs/postproc.md section 2.1): --start/--end, then
+// --skip-cycles with the shaft angle; the cycles of an order analysis inside the window; and the window's
+// description added to the error of an analysis the window made too short.
+#include <cstdint>
+
+#include "common/error.hpp"
+#include "common/log.hpp"
+#include "postproc/analysis_window.hpp"
+#include "postproc/options.hpp"
+#include "postproc/orders.hpp"
+#include "postproc/signal.hpp"
+
+namespace nvh::postproc {
+
+/// Restrict `signal` to the analysis window: --start/--end, then --skip-cycles with the shaft angle
+/// (`angle` may be null when the subcommand has none). No-op without a window.
+void apply_window(SignalSource& signal, const AnalysisWindow& window, const AngleSource* angle,
+                  double cycle_deg, std::int64_t block, const Logger& log);
+
+/// The cycles of `all` (tracked over the samples of `read`, a window with margins) lying wholly inside the
+/// samples `window` of `read`; start times shifted to count from the file's first sample.
+OrderSpectra cycles_in_window(const OrderSpectra& all, const SampleRange& window, const SignalSource& read);
+
+/// Adds the window to an error of an analysis that the window made too short: the message names the options.
+[[noreturn]] void rethrow_in_window(const Error& e, const AnalysisWindow& window, const SignalSource& s);
+
+}  // namespace nvh::postproc
