@@ -104,6 +104,7 @@ void validate(const SkirtSpec& s) {
   check_table(s, s.ovality, "ovality", true);
   if (!(s.film_floor >= 0 && s.film_floor < s.radial_clearance))
     bad(s, "film_floor", "a number in [0, radial_clearance) (m)");
+  if (!(s.oil_layer >= 0 && std::isfinite(s.oil_layer))) bad(s, "oil_layer", "a finite number >= 0 (m)");
   if (s.asperity.sigma != 0) {
     if (!(s.asperity.sigma > 0 && std::isfinite(s.asperity.sigma)))
       bad(s, "sigma", "a finite number >= 0 (m)");
@@ -111,6 +112,12 @@ void validate(const SkirtSpec& s) {
     if (!(s.asperity.modulus > 0 && std::isfinite(s.asperity.modulus)))
       bad(s, "modulus", "a finite number > 0 (Pa)");
   }
+}
+
+double oil_layer_squeeze_factor(double h, double oil_layer) {
+  if (!(oil_layer > 0)) return 1.0;
+  const double x = (h - oil_layer) / (oil_layer / 8), ex = std::exp(-std::abs(x));
+  return x >= 0 ? ex / (1 + ex) : 1 / (1 + ex);
 }
 
 EffectiveFilm effective_film(double h, double film_floor) {
@@ -219,7 +226,8 @@ void SkirtFilm::set_motion(const SkirtKinematics& k) {
         f.h_east_cells[m] = He;
         f.g_east_cells[m] = He * He * He;
         f.g_north_cells[m] = Hn * Hn * Hn;
-        f.hdot_cells[m] = -e_dot_at(y_c_[i]) * cos_c / (c * omega_ref_);
+        f.hdot_cells[m] = -e_dot_at(y_c_[i]) * cos_c / (c * omega_ref_) *
+                          oil_layer_squeeze_factor(hc, spec_.oil_layer);
       }
       const double Hw = eff(c - e_at(y_f_[0]) * cos_c + barrel_f_[0] + ov_c);
       f.h_west_rows[kz] = Hw;

@@ -106,6 +106,11 @@ struct SkirtSpec {
   /// m, the film floor h_f of the effective film h_eff(h) (see the top of this file); 0: off (a film <= 0 is
   /// an error).
   double film_floor = 0;
+  /// m, the oil layer h_o of a partially flooded skirt's squeeze (0: off, the closing film is full). The oil
+  /// held in a gap h is taken as the smooth minimum of h and h_o, so a cell's squeeze source is
+  /// s(h) dh/dt with s(h) = 1 / (1 + exp((h - h_o) / (h_o / 8))): where the gap is wider than the oil layer
+  /// the closing skirt pushes air, not oil (no squeeze pressure); below it the full squeeze of section 14.2.
+  double oil_layer = 0;
   /// Asperity contact on the nominal film, per cell (inactive while asperity.sigma = 0).
   GreenwoodTripp asperity;
 };
@@ -117,6 +122,8 @@ struct EffectiveFilm {
   double dh = 1;
 };
 EffectiveFilm effective_film(double h, double film_floor);
+/// The squeeze factor s(h) of a partially flooded skirt with an oil layer h_o (SkirtSpec::oil_layer; 1 when off).
+double oil_layer_squeeze_factor(double h, double oil_layer);
 
 /// The piston's motion the film sees (the liner at rest).
 struct SkirtKinematics {

@@ -305,6 +305,8 @@ bearing::SkirtSpec read_skirt(const input::Table& t) {
   // off
   s.film_floor =
       t.number_or("film_floor", 0.5 * s.asperity.sigma, Range::closed(0.0, 0.5 * s.radial_clearance));
+  // A partially flooded skirt: the oil layer that the closing gap squeezes (docs/bearing.md section 15.4)
+  s.oil_layer = t.number_or("oil_layer", 0.0, Range::closed(0.0, 10 * s.radial_clearance));
   // The spec's own checks (arcs that overlap, profile positions not ascending): located at the key they name
   try {
     bearing::validate(s);
