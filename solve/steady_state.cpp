@@ -252,13 +252,27 @@ void SteadyStateMonitor::close_cycle(const Logger& log) {
   if (k == 0) {
     line << ": the first (" << phases_ << " phases), nothing to compare yet";
     r_.final_change.assign(s_.channels.size(), std::numeric_limits<double>::quiet_NaN());
+    r_.final_distance = r_.final_change;
   } else {
+    // The estimated distance to the periodic solution (steady_state.hpp): change q / (1 - q), q the
+    // channel's last ratio of changes held to [0.5, 0.95].
+    std::vector<double> distance(change.size());
+    for (std::size_t c = 0; c < change.size(); ++c) {
+      double q = 0.95;
+      if (!changes_.empty()) {
+        const double before = changes_.back()[c];
+        q = before > 0 ? std::clamp(change[c] / before, 0.5, 0.95) : (change[c] > 0 ? 0.95 : 0.5);
+      }
+      distance[c] = change[c] * q / (1 - q);
+    }
     changes_.push_back(change);
     r_.final_change = change;
-    const auto worst = std::max_element(change.begin(), change.end()) - change.begin();
-    line << ": largest change " << sci(change[worst]) << " in " << s_.channels[worst] << " (tolerance "
-         << sci(s_.tolerance, 1) << ")";
-    r_.converged = change[worst] < s_.tolerance;
+    r_.final_distance = distance;
+    const auto worst = std::max_element(distance.begin(), distance.end()) - distance.begin();
+    line << ": largest change " << sci(*std::max_element(change.begin(), change.end())) << ", distance "
+         << sci(distance[worst]) << " in " << s_.channels[worst] << " (tolerance " << sci(s_.tolerance, 1)
+         << ")";
+    r_.converged = distance[worst] < s_.tolerance;
   }
   log.info(line.str());
   done_ = r_.converged || r_.cycles >= s_.max_cycles;
@@ -308,6 +322,10 @@ void write_record(h5::Group& root, const SteadyStateSettings& s, const SteadySta
   g.write("channels", s.channels);
   g.write("final_change", Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(
                               r.final_change.data(), static_cast<Eigen::Index>(r.final_change.size()))));
+  g.write("final_distance",
+          Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(
+              r.final_distance.data(), static_cast<Eigen::Index>(r.final_distance.size()))));
+  g.set_attribute("unit", "1", "final_distance");
   if (r.change.rows() > 0) g.write("change", r.change);
   g.write("cycle_start", Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(
                              r.cycle_start.data(), static_cast<Eigen::Index>(r.cycle_start.size()))));
@@ -327,19 +345,21 @@ void write_steady_state_result(const std::filesystem::path& path, const Scene& s
   std::string message;
   std::string worst_channel = "-";
   double worst = std::numeric_limits<double>::quiet_NaN();
-  for (std::size_t c = 0; c < r.final_change.size(); ++c)
-    if (!(r.final_change[c] <= worst)) {
-      worst = r.final_change[c];
+  for (std::size_t c = 0; c < r.final_distance.size(); ++c)
+    if (!(r.final_distance[c] <= worst)) {
+      worst = r.final_distance[c];
       worst_channel = s.channels[c];
     }
   if (r.converged) {
-    message = "steady state reached after " + std::to_string(r.cycles) + " cycles (largest change " +
-              sci(worst) + " in " + worst_channel + ", tolerance " + sci(s.tolerance, 1) + ")";
+    message = "steady state reached after " + std::to_string(r.cycles) +
+              " cycles (largest estimated distance to the periodic solution " + sci(worst) + " in " +
+              worst_channel + ", tolerance " + sci(s.tolerance, 1) + ")";
     log.info(message);
   } else {
     message = "steady state NOT reached after " + std::to_string(r.cycles) +
-              " cycles (max_cycles = " + std::to_string(s.max_cycles) + "): the largest change " +
-              sci(worst) + " in " + worst_channel + " is above the tolerance " + sci(s.tolerance, 1) +
+              " cycles (max_cycles = " + std::to_string(s.max_cycles) +
+              "): the largest estimated distance to the periodic solution " + sci(worst) + " in " +
+              worst_channel + " is above the tolerance " + sci(s.tolerance, 1) +
               "; the last " + std::to_string(r.kept_cycles) +
               " cycle(s) are written anyway, with /solver/steady_state converged = 0";
     log.warning(message);

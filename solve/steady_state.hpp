@@ -8,8 +8,16 @@
 //   change_c = RMS_phases,columns(x_k - x_{k-1}) / max(RMS(x_k), 1e-3 max_j<=k RMS(x_j), floor_c)
 //
 // (RMS, not the standard deviation; the second term guards a channel that has decayed to ~0, the floor is
-// the user's, in the channel's unit; 0 / 0 counts as 0). The run has converged when every change is below
-// the tolerance; it stops then, or after max_cycles cycles with a warning.
+// the user's, in the channel's unit; 0 / 0 counts as 0). The change does not bound how far cycle k is from
+// the periodic solution: a transient that shrinks by a factor q per cycle is still change q / (1 - q) away
+// (the geometric series of the changes to come). So each channel's ratio q = change_k / change_{k-1} is
+// estimated, held to [0.5, 0.95] (0.95 at the first comparison, with no ratio yet), and the estimated
+// distance to the periodic solution
+//
+//   distance_c = change_c q / (1 - q)          (>= change_c, at most 19 change_c)
+//
+// is what the tolerance bounds. The run has converged when every distance is below the tolerance; it stops
+// then, or after max_cycles cycles with a warning.
 #include <filesystem>
 #include <memory>
 #include <span>
@@ -44,6 +52,7 @@ struct SteadyStateResult {
   bool converged = false;
   int cycles = 0;                     // complete cycles run
   std::vector<double> final_change;   // per channel, at the last compared cycle (NaN: none compared)
+  std::vector<double> final_distance;  // per channel, the estimated distance to the periodic solution then
   Eigen::MatrixXd change;             // (cycles - 1, channels): the change at the end of each cycle >= 2
   std::vector<long> cycle_first_row;  // the first sample of each cycle (and of the one after the last)
   std::vector<double> cycle_start;    // each cycle's start, in deg or s of the clock (absolute)

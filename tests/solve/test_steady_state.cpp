@@ -87,7 +87,10 @@ TEST(SteadyState, OscillatorReachesTheClosedFormPeriodicResponseInThePredictedCy
   ASSERT_TRUE(summary.steady_state);
   const SteadyStateResult& r = *summary.steady_state;
   EXPECT_TRUE(r.converged);
-  const int predicted = predicted_cycles(tolerance);
+  // Converged when the estimated distance change q / (1 - q) is below the tolerance (steady_state.hpp), with
+  // q = exp(-zeta w_n T) the transient's decay per cycle: the change must fall below tolerance (1 - q) / q.
+  const double q = std::exp(-kZeta * 2 * kPi * kFn * kPeriod);
+  const int predicted = predicted_cycles(tolerance * (1 - q) / q);
   std::cout << "cycles needed " << r.cycles << ", predicted by exp(-zeta w_n t) " << predicted << "; " << wall
             << " s wall\n";
   EXPECT_LE(std::abs(r.cycles - predicted), 1);
@@ -106,6 +109,7 @@ TEST(SteadyState, OscillatorReachesTheClosedFormPeriodicResponseInThePredictedCy
   const Eigen::VectorXd final_change = f.root().read_vector("solver/steady_state/final_change");
   ASSERT_EQ(final_change.size(), 3);
   EXPECT_LT(final_change.maxCoeff(), tolerance);
+  EXPECT_LT(f.root().read_vector("solver/steady_state/final_distance").maxCoeff(), tolerance);
   EXPECT_EQ(f.root().read_matrix("solver/steady_state/change").rows(), r.cycles - 1);
   EXPECT_NE(log.find("steady state: cycle " + std::to_string(r.cycles) + " of at most 60: largest change"),
             std::string::npos)
@@ -155,15 +159,11 @@ TEST(SteadyState, ReportedCycleEqualsTheLastCycleOfAMuchLongerRun) {
   ASSERT_NEAR(tl[first], (long_cycles - 1) * kPeriod, 1e-9);
   const Eigen::VectorXd last = xl.segment(first, kPhases);
   const double difference = rms(xs - last) / rms(last);
-  // The tolerance bounds the change from one cycle to the next, not the distance to the periodic solution:
-  // with a transient that shrinks by q per cycle the distance is at most change q / (1 - q) (a geometric
-  // series). The damping's decay rate d / (2 m) = zeta w_n does not depend on the stiffness, so
-  // q = exp(-zeta w_n T) = 0.754 here and the bound is 3.06 x the tolerance.
-  const double q = std::exp(-kZeta * 2 * kPi * kFn * kPeriod);
+  // The tolerance bounds the estimated distance to the periodic solution (the change times q / (1 - q), q
+  // the ratio of successive changes: steady_state.hpp), so the reported cycle is within it of the long run's.
   std::cout << "steady state after " << cycles << " cycles against cycle " << long_cycles
-            << " of a long run: RMS difference / RMS " << difference << " (bound " << 1e-3 * q / (1 - q)
-            << ")\n";
-  EXPECT_LT(difference, 1e-3 * q / (1 - q));
+            << " of a long run: RMS difference / RMS " << difference << " (tolerance 1e-3)\n";
+  EXPECT_LT(difference, 1e-3);
   EXPECT_GT(difference,
             1e-6);  // the long run did go on converging: the comparison is not of a file with itself
 }
@@ -290,14 +290,18 @@ TEST(SteadyState, InterruptedAndRestartedRunEqualsAnUninterruptedOne) {
       0);
   const h5::File a = h5::File::open_read(whole), b = h5::File::open_read(parts);
   EXPECT_EQ(b.root().string_attribute("status"), "complete");
-  EXPECT_EQ(a.root().int_attribute("cycles", "solver/steady_state"),
-            b.root().int_attribute("cycles", "solver/steady_state"));
+  // The restart perturbs the solution by about 1e-7 m (rtol 1e-9 on 2 cm, accumulated), more than the last
+  // cycles' changes (1e-6 of 1.4 cm RMS): the convergence may then be seen one cycle apart. The kept
+  // cycles are then one period apart, and both within the tolerance of the periodic solution.
+  const int ca = a.root().int_attribute("cycles", "solver/steady_state"),
+            cb = b.root().int_attribute("cycles", "solver/steady_state");
+  EXPECT_LE(std::abs(ca - cb), 1);
   const Eigen::VectorXd ta = a.root().read_vector("time"), tb = b.root().read_vector("time");
   ASSERT_EQ(ta.size(), tb.size());
-  EXPECT_LT((ta - tb).cwiseAbs().maxCoeff(), 1e-12);
+  EXPECT_LT((ta - tb).cwiseAbs().maxCoeff() - std::abs(ca - cb) * kPeriod, 1e-12);
   const Eigen::VectorXd xa = a.root().read_vector("forces/spring/deflection"),
                         xb = b.root().read_vector("forces/spring/deflection");
-  EXPECT_LT((xa - xb).cwiseAbs().maxCoeff(), 1e-7);  // rtol 1e-9 on 2 cm, accumulated over the restart
+  EXPECT_LT((xa - xb).cwiseAbs().maxCoeff(), 2e-7);
   // A finished steady-state result is not continued.
   EXPECT_EQ(WEXITSTATUS(std::system(
                 (solve + scene.string() + " -o " + parts.string() + " --restart -q 2>/dev/null").c_str())),
