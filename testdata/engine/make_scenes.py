@@ -370,7 +370,7 @@ angular_velocity = [{f(OMEGA)}, 0, 0]""")
     main_bearings(lines, mains, "crank", "block")
     crank_train(lines, "block", lambda k: f"crank.crankpin{k + 1}", lambda k: f"block.head{k + 1}",
                 lambda k: f"block.liner{k + 1}")
-    tail(lines, 1, integrator, '["block.jacket4_thrust", "block.oilpan_flange", "block.deck", "block.skirt", '
+    tail(lines, 3, integrator, '["block.jacket4_thrust", "block.oilpan_flange", "block.deck", "block.skirt", '
          '"block.mount1", "block.mount2", "block.mount3", "block.mount4", "block.liner4", "crank.pulley", '
          '"crank.fly"]')
     (HERE / f"{name}.toml").write_text("".join(l if l.endswith("\n") else l + "\n" for l in lines))
