@@ -1,0 +1,575 @@
+#!/usr/bin/python3
+"""Write the engine scene family (docs/engine.md) from one set of parameters, so that the variants differ
+only where they say they do. Run from anywhere: /usr/bin/python3 make_scenes.py (writes next to itself).
+The scenes are committed; rerun this after changing a parameter here and commit both.
+
+  engine.toml                 baseline: flexible block (block.toml, Craig-Bampton) on 4 non-linear mounts
+                              + a Maxwell (hydro) element at mount 1; flexible crankshaft (../crankshaft.toml)
+                              on 5 short (Ocvirk) journal bearings and a thrust bearing; 4 rigid conrods and
+                              pistons; revolute big and small ends; pistons guided by prismatic joints to the
+                              liners; gas forces 1-3-4-2 on the pistons and, reversed, on the cylinder heads;
+                              speed driver 2000 rpm at the flywheel
+  engine_bushing_mains.toml   the same with linear spring-damper main bearings (bushings, the paper's eq. 8)
+  engine_rigid.toml           the rigid twin: block and crankshaft as rigid bodies (their superelements' mass,
+                              centre of mass and inertia), bushing main bearings - seconds per cycle; the
+                              energy-balance and mount-force test (tests/engine)
+  engine_rigid_throws.toml    the statically determinate crank train: 4 rigid throws, each on its own 2
+                              half main bearings (bushings to ground), each turned by its own speed driver;
+                              the main-bearing load test against the hand calculation (tests/engine)
+
+Axes of every scene: the block's (engine_block.geo): x along the crank axis from the front (pulley,
+cylinder 1 at x = -0.135 m) to the rear (flywheel), z up along the cylinders, y = z x x; origin on the
+crank axis at the middle main bearing. SI units (m, kg, s, N, rad) except keys named _deg or rpm.
+The crankshaft turns positively about +x; crank angle 0 = firing TDC of cylinder 1 (throws 1 and 4 up).
+"""
+import math
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+
+# ---------------------------------------------------------------- parameters (sources in docs/engine.md)
+RPM = 2000.0
+OMEGA = RPM * 2 * math.pi / 60
+R, L_ROD = 0.043, 0.145                     # crank radius (crankshaft.toml), conrod centres (conrod.toml)
+BORE = 0.086
+AREA = math.pi / 4 * BORE**2
+GAS_SCALE = 1e5 * AREA                      # N per bar of cylinder_pressure.csv
+CYL_X = [-0.135, -0.045, 0.045, 0.135]      # cylinder axes (engine_block.geo, pitch 90 mm)
+MAIN_X = [-0.180, -0.090, 0.0, 0.090, 0.180]
+THROW_UP = [True, False, False, True]       # flat-plane crank: throws 1, 4 at TDC at crank angle 0
+FIRING_OFFSET = [0, 540, 180, 360]          # firing order 1-3-4-2: cylinder k fires at this crank angle
+CRANK_ORIGIN_X = -0.180                     # crankshaft.toml has main1 at its origin; the block's main1
+# conrod (conrod.toml: 0.674 kg, centre of mass 45.6 mm from the big end)
+ROD_M, ROD_A = 0.674, 0.0456
+ROD_I_SWING = ROD_M * ROD_A * (L_ROD - ROD_A)   # dynamically equivalent to 2 point masses (docs/engine.md)
+ROD_I = [ROD_I_SWING, 0.0030, 0.00015]      # about x (swing), y, z (rod axis), kg m^2
+# piston assembly: piston.toml 0.319 kg + pin (steel tube 22/13 mm x 60 mm) 0.116 kg + rings 0.030 kg
+PISTON_M = 0.465
+PISTON_I = [3.5e-4, 3.5e-4, 4.3e-4]         # a 86 mm x 60 mm aluminium cylinder, roughly
+COMPRESSION_H = 0.030                       # pin axis to crown, m
+# block (block.h5 invariants: condense testdata/engine/block.toml)
+BLOCK_M, BLOCK_C = 56.4161, [0.0, 0.0, 0.0659853]   # x, y: 1.1e-5, -1.5e-7 m, taken as 0
+BLOCK_I = [0.681642, 1.35585, 1.26163]
+# crankshaft with pulley and flywheel (crankshaft.h5 invariants), centre of mass on the axis
+CRANK_M, CRANK_CX = 25.8843, 0.243183       # in the crankshaft's frame (x from main1)
+CRANK_I = [0.1301, 0.7298, 0.7397]          # about the centre of mass, crank axes (testdata/README.md)
+# mounts: rubber mounts of a ~90 kg engine (bounce ~15 Hz), loss factor ~0.15
+MOUNT_X, MOUNT_Y, MOUNT_Z = [-0.110, 0.110, -0.110, 0.110], [0.140, 0.140, -0.140, -0.140], 0.015
+MOUNT_KZ, MOUNT_KB, MOUNT_XB, MOUNT_DZ = 2.0e5, 2.0e5, 0.002, 300.0
+MOUNT_KXY, MOUNT_DXY, MOUNT_KROT = 1.0e5, 150.0, 100.0
+MAXWELL_K, MAXWELL_C = 1.0e5, 1000.0        # hydro mount's fluid path: corner k/(2 pi c) = 15.9 Hz
+# main bearings
+JB = dict(diameter=0.055, width=0.024, radial_clearance=30e-6, viscosity=0.008)
+MAIN_K, MAIN_D = 1.0e9, 2.0e4               # eq. 8 bearings: N/m, N s/m (radial)
+THRUST_K, THRUST_D = 1.0e8, 2.0e3           # axial, at main 3
+
+
+def f(v):
+    return f"{v:.9g}"
+
+
+def vec(v):
+    return "[" + ", ".join(f(x) for x in v) + "]"
+
+
+def header(title, lines):
+    out = [f"# {title}", "#"]
+    out += ["# " + l if l else "#" for l in lines]
+    out += ["#",
+            "# Made by make_scenes.py (edit there, not here). SI units (m, kg, s, N, rad; keys _deg and rpm",
+            "# as named). Axes: the block's - x along the crank axis (front/pulley at -x, cylinder 1 at",
+            "# x = -0.135 m), z up along the cylinders, origin on the crank axis at main bearing 3. Gravity off",
+            "# (the mounts are modelled about the static sag, which does not change the vibration about it).",
+            "# Crank angle 0 = firing TDC of cylinder 1; firing order 1-3-4-2. Parameters and their sources:",
+            "# docs/engine.md."]
+    return "\n".join(out) + "\n"
+
+
+def pin_z(k):
+    return R if THROW_UP[k] else -R
+
+
+def crank_train(lines, block, crank_pin, head_at, liner_of):
+    """Conrods, pistons, their joints, and the gas loads. crank_pin(k) names the crank pin marker (z along x),
+    head_at(k) the block's marker for the head reaction (or None), liner_of(k) the block's guide marker."""
+    for k in range(4):
+        n = k + 1
+        zb = pin_z(k)
+        zs = zb + math.sqrt(L_ROD**2 - 0.0)  # the conrod stands vertical at TDC and BDC
+        lines.append(f"""
+# ---- cylinder {n}: conrod and piston ({'TDC' if THROW_UP[k] else 'BDC'} at crank angle 0)
+[[body]]
+name = "conrod{n}"
+type = "rigid"
+mass = {f(ROD_M)}                        # conrod.toml
+inertia = {vec(ROD_I)}   # x: m a (l - a), the 2-point-mass equivalent
+position = [{f(CYL_X[k])}, 0, {f(zb + ROD_A)}]    # centre of mass, {ROD_A * 1e3:.1f} mm above the big end
+  [[body.marker]]
+  name = "big_end"
+  at = [0, 0, {f(-ROD_A)}]
+  z = [1, 0, 0]
+  x = [0, 0, 1]
+  [[body.marker]]
+  name = "small_end"
+  at = [0, 0, {f(L_ROD - ROD_A)}]
+  z = [1, 0, 0]
+  x = [0, 0, 1]
+
+[[body]]
+name = "piston{n}"
+type = "rigid"
+mass = {f(PISTON_M)}                        # piston 0.319 + pin 0.116 + rings 0.030 kg
+inertia = {vec(PISTON_I)}
+position = [{f(CYL_X[k])}, 0, {f(zs)}]       # centre of mass taken on the pin axis
+  [[body.marker]]
+  name = "pin"
+  z = [1, 0, 0]
+  x = [0, 0, 1]
+  [[body.marker]]
+  name = "slide"                   # z along the cylinder axis (prismatic joint)
+  z = [0, 0, 1]
+  x = [1, 0, 0]
+  [[body.marker]]
+  name = "crown"
+  at = [0, 0, {f(COMPRESSION_H)}]
+
+[[joint]]
+name = "big_end{n}"
+type = "revolute"
+i = "conrod{n}.big_end"
+j = "{crank_pin(k)}"
+
+[[joint]]
+name = "small_end{n}"
+type = "revolute"
+i = "piston{n}.pin"
+j = "conrod{n}.small_end"
+
+[[joint]]
+name = "guide{n}"                  # the simpler piston guidance: a prismatic joint to the liner
+type = "prismatic"
+i = "piston{n}.slide"
+j = "{liner_of(k)}"
+
+[[load]]
+name = "gas{n}"                    # (p - 1 bar) x bore area on the crown, fires at {FIRING_OFFSET[k]} deg
+type = "force"
+at = "piston{n}.crown"
+direction = [0, 0, -1]
+abscissa = "crank-angle"
+file = "cylinder_pressure.csv"
+columns = ["crank_deg", "p_bar"]
+scale = {f(GAS_SCALE)}              # N/bar: 1e5 Pa/bar x pi 0.086^2 / 4
+period_deg = 720
+offset_deg = {FIRING_OFFSET[k]}
+""")
+        if head_at is not None:
+            lines.append(f"""
+[[load]]
+name = "head{n}"                   # the same pressure on the cylinder head, bolted to the deck
+type = "force"
+at = "{head_at(k)}"
+direction = [0, 0, 1]
+abscissa = "crank-angle"
+file = "cylinder_pressure.csv"
+columns = ["crank_deg", "p_bar"]
+scale = {f(GAS_SCALE)}
+period_deg = 720
+offset_deg = {FIRING_OFFSET[k]}
+""")
+
+
+def mounts(lines, block, maxwell):
+    lines.append("""
+# ---- engine mounts: 4 rubber mounts at the pads; each a bushing (longitudinal x, lateral y, small
+# rotational rates) in parallel with a progressive vertical spring-damper (eq. 8 with eq. 9-10's
+# k = k0 + kB (dx/xB)^2: 200 N/mm, doubling at 2 mm), ground points 50 mm below the pads.""")
+    for m in range(4):
+        n = m + 1
+        lines.append(f"""
+[[force]]
+name = "mount{n}"
+type = "bushing"
+i = "{block}.mount{n}"
+j = "ground.mount{n}"
+stiffness = [{f(MOUNT_KXY)}, {f(MOUNT_KXY)}, 0, {f(MOUNT_KROT)}, {f(MOUNT_KROT)}, {f(MOUNT_KROT)}]
+damping = [{f(MOUNT_DXY)}, {f(MOUNT_DXY)}, 0, 0, 0, 0]
+
+[[force]]
+name = "mount{n}_z"
+type = "spring-damper"
+i = "{block}.mount{n}"
+j = "ground.mount{n}_base"
+k = {f(MOUNT_KZ)}
+d = {f(MOUNT_DZ)}
+kB = {f(MOUNT_KB)}
+xB = {f(MOUNT_XB)}
+""")
+    if maxwell:
+        lines.append(f"""
+# Mount 1 is a hydro mount: its fluid path is a Maxwell element (spring k in series with a damper c, the
+# damper's deflection an element state) in parallel with the rubber: dynamic stiffness k c w i / (k + c w i),
+# most damping at its corner k / (2 pi c) = {MAXWELL_K / (2 * math.pi * MAXWELL_C):.1f} Hz, near the bounce mode.
+[[force]]
+name = "mount1_hydro"
+type = "maxwell"
+i = "{block}.mount1"
+j = "ground.mount1_base"
+k = {f(MAXWELL_K)}
+c = {f(MAXWELL_C)}
+""")
+
+
+def ground(lines, extra=""):
+    lines.append("""
+[[body]]
+name = "ground"
+type = "ground"
+  [[body.marker]]
+  name = "dyno"                    # the dynamometer's axis at the flywheel (speed driver, clock)
+  at = [0.237, 0, 0]
+  z = [1, 0, 0]
+  x = [0, 0, 1]""")
+    for m in range(4):
+        lines.append(f"""  [[body.marker]]
+  name = "mount{m + 1}"
+  at = [{f(MOUNT_X[m])}, {f(MOUNT_Y[m])}, {f(MOUNT_Z)}]
+  [[body.marker]]
+  name = "mount{m + 1}_base"
+  at = [{f(MOUNT_X[m])}, {f(MOUNT_Y[m])}, {f(MOUNT_Z - 0.05)}]""")
+    lines.append(extra)
+
+
+def tail(lines, end_cycles, integrator, markers):
+    lines.append(f"""
+[[driver]]
+name = "speed"                     # the dynamometer holds {RPM:.0f} rpm at the flywheel
+type = "speed"
+i = "crank.fly"
+j = "ground.dyno"
+rpm = {RPM:.0f}
+
+[clock]
+i = "crank.fly"
+j = "ground.dyno"
+zero_deg = 0
+cycle_deg = 720
+end_cycles = {end_cycles}
+
+[integrator]
+{integrator}
+
+[output]
+sample_rate_hz = 24000             # 1 sample per crank degree at 2000 rpm, Nyquist 12 kHz
+markers = {markers}
+""")
+
+
+def main_bearings(lines, kind, crank, block):
+    if kind == "short":
+        lines.append(f"""
+# ---- main bearings: short (Ocvirk) hydrodynamic journal bearings, D 55 mm, L 24 mm (crankshaft.toml),
+# radial clearance 30 um, SAE 5W-30 near 100 C: 0.008 Pa s (as testdata/scenes/bearing_crankshaft.toml)""")
+    else:
+        lines.append(f"""
+# ---- main bearings: linear spring-dampers (bushings; the paper's eq. 8 in both radial directions):
+# {MAIN_K:.0e} N/m, {MAIN_D:.0e} N s/m radially (an oil film at moderate eccentricity, damping ratio ~0.2 of the
+# crank's bounce on them); no axial, tilt or spin stiffness""")
+    for b in range(5):
+        n = b + 1
+        if kind == "short":
+            lines.append(f"""
+[[force]]
+name = "main{n}"
+type = "journal-bearing"
+model = "short"
+i = "{crank}.journal{n}"
+j = "{block}.shell{n}"
+diameter = {JB['diameter']}
+width = {JB['width']}
+radial_clearance = {JB['radial_clearance']}
+viscosity = {JB['viscosity']}
+""")
+        else:
+            lines.append(f"""
+[[force]]
+name = "main{n}"
+type = "bushing"
+i = "{crank}.journal{n}"
+j = "{block}.shell{n}"
+stiffness = [{f(MAIN_K)}, {f(MAIN_K)}, 0, 0, 0, 0]
+damping = [{f(MAIN_D)}, {f(MAIN_D)}, 0, 0, 0, 0]
+""")
+    lines.append(f"""
+# ---- thrust bearing at main 3: axial only ({THRUST_K:.0e} N/m, {THRUST_D:.0e} N s/m)
+[[force]]
+name = "thrust"
+type = "bushing"
+i = "{crank}.journal3"
+j = "{block}.shell3"
+stiffness = [0, 0, {f(THRUST_K)}, 0, 0, 0]
+damping = [0, 0, {f(THRUST_D)}, 0, 0, 0]
+""")
+
+
+CRANK_Q = [math.sqrt(0.5), math.sqrt(0.5), 0, 0]    # crank y (throw 1) -> global z, crank z -> -y
+
+
+def flexible_scene(name, title, mains, lines_doc, integrator, block_modes, crank_modes):
+    lines = [header(title, lines_doc)]
+    lines.append('[scene]\nname = "' + name + '"\ngravity = [0, 0, 0]\n')
+    ground(lines)
+    lines.append(f"""
+# ---- the block: flexible, Craig-Bampton (block.toml), its lowest {block_modes} coordinates (to
+# {BLOCK_MODE_F[block_modes - 1]:.0f} Hz); interfaces main1..5, mount1..4, head1..4, liner1..4 are markers
+[[body]]
+name = "block"
+type = "flexible"
+superelement = "block.h5"
+modes = {block_modes}
+position = [0, 0, 0]
+  [[body.marker]]""")
+    for b in range(5):
+        if b:
+            lines.append("  [[body.marker]]")
+        lines.append(f"""  name = "shell{b + 1}"                # main bearing shell, z along the crank axis
+  point = "main{b + 1}"
+  z = [1, 0, 0]
+  x = [0, 0, 1]""")
+    lines.append(f"""
+# ---- the crankshaft with pulley and flywheel: flexible beam, Craig-Bampton (../crankshaft.toml, whose
+# frame has main1 at its origin and throw 1 along its y): placed with main1 at x = {CRANK_ORIGIN_X} m and
+# turned +90 deg about x, so throw 1 points up (crank y -> global z). Its lowest {crank_modes} coordinates
+# (to {CRANK_MODE_F[crank_modes - 1]:.0f} Hz).
+[[body]]
+name = "crank"
+type = "flexible"
+superelement = "crankshaft.h5"
+modes = {crank_modes}
+position = [{CRANK_ORIGIN_X}, 0, 0]
+orientation = {vec(CRANK_Q)}
+angular_velocity = [{f(OMEGA)}, 0, 0]""")
+    for b in range(5):
+        lines.append(f"""  [[body.marker]]
+  name = "journal{b + 1}"
+  point = "main{b + 1}"
+  z = [1, 0, 0]
+  x = [0, 1, 0]""")
+    for k in range(4):
+        lines.append(f"""  [[body.marker]]
+  name = "crankpin{k + 1}"
+  point = "pin{k + 1}"
+  z = [1, 0, 0]
+  x = [0, 1, 0]""")
+    lines.append("""  [[body.marker]]
+  name = "fly"
+  point = "flywheel"
+  z = [1, 0, 0]
+  x = [0, 1, 0]""")
+    mounts(lines, "block", maxwell=True)
+    main_bearings(lines, mains, "crank", "block")
+    crank_train(lines, "block", lambda k: f"crank.crankpin{k + 1}", lambda k: f"block.head{k + 1}",
+                lambda k: f"block.liner{k + 1}")
+    tail(lines, 3, integrator, '["block.jacket4_thrust", "block.oilpan_flange", "block.deck", "block.skirt", '
+         '"block.mount1", "block.mount2", "block.mount3", "block.mount4", "block.liner4", "crank.pulley", '
+         '"crank.fly"]')
+    (HERE / f"{name}.toml").write_text("".join(l if l.endswith("\n") else l + "\n" for l in lines))
+
+
+def rigid_scene():
+    lines = [header("The engine's rigid twin (tests/engine: energy balance and mount forces)", [
+        "The baseline engine.toml with the block and the crankshaft as rigid bodies (each with its",
+        "superelement's mass, centre of mass and inertia: block.h5 and crankshaft.h5) and linear spring-damper",
+        "main bearings; everything else as in the baseline: mounts (with the Maxwell element), conrods, pistons,",
+        "prismatic guidance, gas on pistons and heads, 2000 rpm at the flywheel. Two cycles in a few seconds."])]
+    lines.append('[scene]\nname = "engine-rigid"\ngravity = [0, 0, 0]\n')
+    ground(lines)
+    head = "".join(f"""  [[body.marker]]
+  name = "head{k + 1}"
+  at = [{f(CYL_X[k] - BLOCK_C[0])}, {f(-BLOCK_C[1])}, {f(0.230 - BLOCK_C[2])}]
+  [[body.marker]]
+  name = "liner{k + 1}"
+  at = [{f(CYL_X[k] - BLOCK_C[0])}, {f(-BLOCK_C[1])}, {f(0.145 - BLOCK_C[2])}]
+""" for k in range(4))
+    shells = "".join(f"""  [[body.marker]]
+  name = "shell{b + 1}"
+  at = [{f(MAIN_X[b] - BLOCK_C[0])}, {f(-BLOCK_C[1])}, {f(-BLOCK_C[2])}]
+  z = [1, 0, 0]
+  x = [0, 0, 1]
+""" for b in range(5))
+    mnt = "".join(f"""  [[body.marker]]
+  name = "mount{m + 1}"
+  at = [{f(MOUNT_X[m] - BLOCK_C[0])}, {f(MOUNT_Y[m] - BLOCK_C[1])}, {f(MOUNT_Z - BLOCK_C[2])}]
+""" for m in range(4))
+    lines.append(f"""
+# ---- the block as a rigid body: block.h5's invariants (mass, centre of mass, inertia about it)
+[[body]]
+name = "block"
+type = "rigid"
+mass = {f(BLOCK_M)}
+inertia = {vec(BLOCK_I)}
+position = {vec(BLOCK_C)}
+{shells}{head}{mnt}""")
+    cg = CRANK_ORIGIN_X + CRANK_CX
+    journals = "".join(f"""  [[body.marker]]
+  name = "journal{b + 1}"
+  at = [{f(MAIN_X[b] - cg)}, 0, 0]
+  z = [1, 0, 0]
+  x = [0, 0, 1]
+""" for b in range(5))
+    pins = "".join(f"""  [[body.marker]]
+  name = "crankpin{k + 1}"
+  at = [{f(CYL_X[k] - cg)}, 0, {f(pin_z(k))}]
+  z = [1, 0, 0]
+  x = [0, 0, 1]
+""" for k in range(4))
+    lines.append(f"""
+# ---- the crankshaft with pulley and flywheel as a rigid body: crankshaft.h5's mass and inertia (inertia
+# about the centre of mass, crank axes: x axial {CRANK_I[0]}, radial {CRANK_I[1]}, {CRANK_I[2]} kg m^2; the
+# small difference of the two radial values is dropped - the body turns, so one radial value, their mean)
+[[body]]
+name = "crank"
+type = "rigid"
+mass = {f(CRANK_M)}
+inertia = [{f(CRANK_I[0])}, {f(0.5 * (CRANK_I[1] + CRANK_I[2]))}, {f(0.5 * (CRANK_I[1] + CRANK_I[2]))}]
+position = [{f(cg)}, 0, 0]
+angular_velocity = [{f(OMEGA)}, 0, 0]
+{journals}{pins}  [[body.marker]]
+  name = "fly"
+  at = [{f(0.237 - cg)}, 0, 0]
+  z = [1, 0, 0]
+  x = [0, 0, 1]
+""")
+    mounts(lines, "block", maxwell=True)
+    main_bearings(lines, "bushing", "crank", "block")
+    crank_train(lines, "block", lambda k: f"crank.crankpin{k + 1}", lambda k: f"block.head{k + 1}",
+                lambda k: f"block.liner{k + 1}")
+    tail(lines, 2, 'method = "ida"\nrtol = 1e-7\natol = 1e-10\nmax_step = 5e-5',
+         '["block.mount1", "block.mount2", "block.mount3", "block.mount4"]')
+    (HERE / "engine_rigid.toml").write_text("".join(l if l.endswith("\n") else l + "\n" for l in lines))
+
+
+def throws_scene():
+    lines = [header("The statically determinate crank train (tests/engine: main-bearing loads)", [
+        "The crankshaft split at the main bearings into 4 rigid throws, each held by its own 2 half bearings",
+        "(stiff, well damped spring-dampers: bushings to ground at the main-bearing centres, 45 mm either side",
+        "of its pin) and turned at 2000 rpm by its own speed driver. Each throw's centre of mass lies on the",
+        "axis midway between its bearings, so the load on each half bearing is half the crank-pin force",
+        "(the lever rule) - the hand calculation the test compares with. Main bearing k's load is the sum of",
+        "its two halves (the rear half of throw k-1 and the front half of throw k). Ground stands for the",
+        "block; conrods, pistons, joints and gas forces as in engine.toml."])]
+    lines.append('[scene]\nname = "engine-rigid-throws"\ngravity = [0, 0, 0]\n')
+    liners = "".join(f"""  [[body.marker]]
+  name = "liner{k + 1}"
+  at = [{f(CYL_X[k])}, 0, 0.145]
+""" for k in range(4))
+    mains = "".join(f"""  [[body.marker]]
+  name = "main{b + 1}"
+  at = [{f(MAIN_X[b])}, 0, 0]
+  z = [1, 0, 0]
+  x = [0, 0, 1]
+""" for b in range(5))
+    lines.append(f"""
+[[body]]
+name = "ground"
+type = "ground"
+{mains}{liners}""")
+    for k in range(4):
+        n = k + 1
+        lines.append(f"""
+# ---- throw {n}: journals at x = {MAIN_X[k]} and {MAIN_X[k + 1]} m, pin at x = {CYL_X[k]} m
+[[body]]
+name = "throw{n}"
+type = "rigid"
+mass = 4.1                        # a quarter of the 16.4 kg crankshaft, balanced on its axis
+inertia = [0.012, 0.010, 0.010]
+position = [{f(CYL_X[k])}, 0, 0]
+angular_velocity = [{f(OMEGA)}, 0, 0]
+  [[body.marker]]
+  name = "front"
+  at = [-0.045, 0, 0]
+  z = [1, 0, 0]
+  x = [0, 0, 1]
+  [[body.marker]]
+  name = "rear"
+  at = [0.045, 0, 0]
+  z = [1, 0, 0]
+  x = [0, 0, 1]
+  [[body.marker]]
+  name = "pin"
+  at = [0, 0, {f(pin_z(k))}]
+  z = [1, 0, 0]
+  x = [0, 0, 1]
+
+[[force]]
+name = "throw{n}_front"           # half of main bearing {n}
+type = "bushing"
+i = "throw{n}.front"
+j = "ground.main{n}"
+stiffness = [{f(MAIN_K)}, {f(MAIN_K)}, {f(THRUST_K)}, 0, 0, 0]
+damping = [{f(MAIN_D)}, {f(MAIN_D)}, {f(THRUST_D)}, 0, 0, 0]
+
+[[force]]
+name = "throw{n}_rear"            # half of main bearing {n + 1}
+type = "bushing"
+i = "throw{n}.rear"
+j = "ground.main{n + 1}"
+stiffness = [{f(MAIN_K)}, {f(MAIN_K)}, {f(THRUST_K)}, 0, 0, 0]
+damping = [{f(MAIN_D)}, {f(MAIN_D)}, {f(THRUST_D)}, 0, 0, 0]
+
+[[driver]]
+name = "speed{n}"
+type = "speed"
+i = "throw{n}.front"
+j = "ground.main{n}"
+rpm = {RPM:.0f}
+""")
+    crank_train(lines, "ground", lambda k: f"throw{k + 1}.pin", None, lambda k: f"ground.liner{k + 1}")
+    lines.append(f"""
+[clock]
+i = "throw1.front"
+j = "ground.main1"
+zero_deg = 0
+cycle_deg = 720
+end_cycles = 1
+
+[integrator]
+# generalized-alpha at a fixed 10 us (20 steps per period of the throws' 3.3 kHz bounce on their bearings,
+# solve --advise); IDA at rtol 1e-6 needs 51k steps (58 % rejected) and 30 s for the cycle, this 6000 steps
+method = "generalized-alpha"
+step = 1e-5
+rho_inf = 0.8
+
+[output]
+sample_rate_hz = 24000
+markers = ["throw1.pin"]
+""")
+    (HERE / "engine_rigid_throws.toml").write_text("".join(l if l.endswith("\n") else l + "\n" for l in lines))
+
+
+BLOCK_MODE_F = [636.161, 1025.75, 1302.63, 1336.03, 1363.26, 1415.82, 1417.34, 1555.54, 1560.25, 1965.43,
+                1987.44, 2138.89, 2329.29, 2468.85, 2520.6, 2690.54, 2893.79, 2899.78, 2902.25, 2962.23,
+                3052.79, 3088.65, 3245.17, 3266.99, 3279.48, 3361.12, 3501.09, 3599.36, 3765.77, 3808.98,
+                3821.5, 3994.95, 4097.56, 4130.03, 4175.21, 4208.01, 4336.54, 4377.14, 4414.03, 4494.68,
+                4575.73, 4603.28, 4653.2, 4793.24, 4824.59, 5020.83]
+CRANK_MODE_F = [136.112, 153.096, 324.267, 388.356, 444.977, 445.16, 784.165, 831.481, 1055.92, 1091.13,
+                1327.3, 1670.42, 1749.8, 1951.47, 1967.3, 2354.79, 2446.1, 2465.31, 2490.97, 3012.91]
+
+INTEGRATOR = 'method = "ida"\nrtol = 1e-5\natol = 1e-8\nmax_step = 2e-5'
+
+if __name__ == "__main__":
+    flexible_scene("engine", "The engine: a 2.0 l four-cylinder in-line gasoline engine at 2000 rpm, full load", "short",
+                   ["Baseline of the engine scene family (docs/engine.md): the flexible block on 4 mounts (one with",
+                    "a Maxwell hydro element), the flexible crankshaft with pulley and flywheel on 5 short journal",
+                    "bearings and a thrust bearing, 4 rigid conrods and pistons on revolute big and small ends,",
+                    "pistons guided by prismatic joints to the liners (the simpler guidance; the lubricated",
+                    "piston-liner element is for cylinder 4 later), gas forces on pistons and heads, speed driver.",
+                    "Superelements made beside this file's copy by `make -f Makefile.workflow engine`:",
+                    "block.h5 (condense block.toml, ~3 min, ~2-4 GB) and crankshaft.h5 (condense ../crankshaft.toml)."],
+                   INTEGRATOR, 45, 20)
+    flexible_scene("engine_bushing_mains", "The engine with spring-damper main bearings (fidelity variant)", "bushing",
+                   ["engine.toml with the 5 journal bearings replaced by linear spring-dampers (bushings, the",
+                    "paper's eq. 8); everything else identical (docs/engine.md)."],
+                   INTEGRATOR, 45, 20)
+    rigid_scene()
+    throws_scene()
