@@ -41,8 +41,8 @@ std::vector<std::int64_t> select_frames(std::int64_t first, std::int64_t last, s
   if (last < first || max_frames < 1) return {};
   const std::int64_t samples = last - first + 1;
   std::int64_t stride = 1;
-  if (samples > max_frames)
-    stride = max_frames == 1 ? samples : (samples - 1 + max_frames - 2) / (max_frames - 1);
+  // With stride s the frames number floor((samples - 1) / s) + 1; the smallest s keeping that <= max_frames:
+  if (samples > max_frames) stride = (samples - 1) / max_frames + 1;
   std::vector<std::int64_t> frames;
   for (std::int64_t i = first; i <= last && static_cast<std::int64_t>(frames.size()) < max_frames;
        i += stride)
