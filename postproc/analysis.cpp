@@ -8,6 +8,7 @@ std::unique_ptr<Analysis> make_octave_analysis();
 std::unique_ptr<Analysis> make_orders_analysis();
 std::unique_ptr<Analysis> make_stats_analysis();
 std::unique_ptr<Analysis> make_erp_analysis();
+std::unique_ptr<Analysis> make_animate_analysis();
 
 const std::vector<AnalysisEntry>& analyses() {
   // The registry: one line per analysis (subcommand, `postproc --help` line, factory).
@@ -17,6 +18,8 @@ const std::vector<AnalysisEntry>& analyses() {
       {"orders", "computed order tracking: order spectra per cycle, cuts, Campbell", make_orders_analysis},
       {"stats", "RMS, peak, crest factor, band RMS, harmonics of the running speed", make_stats_analysis},
       {"erp", "surface normal velocity and equivalent radiated power of a flexible body", make_erp_analysis},
+      {"animate", "a flexible body's deformed surface over time as XDMF + HDF5 for ParaView",
+       make_animate_analysis},
   };
   return registry;
 }

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "common/error.hpp"
+#include "postproc/surface_motion.hpp"
 
 namespace nvh::postproc {
 
@@ -53,12 +54,7 @@ Eigen::MatrixXd rigid_normal_shapes(const Eigen::MatrixXd& position, const Eigen
 
 Eigen::Matrix<double, 6, 1> body_frame_velocity(const Eigen::Vector3d& velocity, const Eigen::Vector3d& omega,
                                                 const Eigen::Vector4d& euler_parameters) {
-  const double e0 = euler_parameters[0];
-  const Eigen::Vector3d e = euler_parameters.tail<3>();
-  Eigen::Matrix3d skew;
-  skew << 0, -e.z(), e.y(), e.z(), 0, -e.x(), -e.y(), e.x(), 0;
-  const Eigen::Matrix3d a =
-      (2 * e0 * e0 - 1) * Eigen::Matrix3d::Identity() + 2 * (e * e.transpose() + e0 * skew);
+  const Eigen::Matrix3d a = euler_rotation(euler_parameters);
   Eigen::Matrix<double, 6, 1> out;
   out << a.transpose() * velocity, a.transpose() * omega;
   return out;

@@ -10,6 +10,7 @@
 #include "postproc/analysis.hpp"
 #include "postproc/cli_options.hpp"
 #include "postproc/csv.hpp"
+#include "postproc/flexible_body.hpp"
 #include "postproc/levels.hpp"
 #include "postproc/octave.hpp"
 #include "postproc/output.hpp"
@@ -18,54 +19,6 @@
 
 namespace nvh::postproc {
 namespace {
-
-/// The body's modal velocities, one signal per coordinate (read in blocks, restricted to the window).
-std::vector<SignalSource> open_modal_velocities(const ErpCommand& command) {
-  const std::string path = "/bodies/" + command.body + "/modal_velocities";
-  hsize_t modes = 0;
-  {
-    h5::File file = h5::File::open_read(command.results);
-    const h5::Group& root = file.root();
-    if (!root.exists(path)) {
-      std::string bodies;
-      if (root.exists("bodies"))
-        for (const std::string& b : root.open_group("bodies").members())
-          if (root.exists("bodies/" + b + "/modal_velocities")) bodies += (bodies.empty() ? "" : ", ") + b;
-      throw Error(command.results.string() + ": no dataset " + path + "; expected the flexible body '" +
-                  command.body + "' of solve's results (flexible bodies in the file: " +
-                  (bodies.empty() ? std::string("none") : bodies) + ")");
-    }
-    const std::vector<hsize_t> shape = root.shape(path);
-    if (shape.size() != 2 || shape[1] == 0)
-      throw Error(command.results.string() + ":" + path + ": expected a (samples, modes) dataset");
-    modes = shape[1];
-  }
-  std::vector<SignalSource> sources;
-  for (hsize_t j = 0; j < modes; ++j)
-    sources.push_back(
-        SignalSource::open(command.results.string() + ":" + path + "[" + std::to_string(j) + "]"));
-  return sources;
-}
-
-/// The superelement's surface, checked against the results' coordinates.
-SuperelementFile read_surface(const ErpCommand& command, Eigen::Index modes) {
-  SuperelementFile se = read_superelement(command.superelement);
-  const std::string file = command.superelement.string();
-  if (!se.surface || se.surface->labels.empty())
-    throw Error(file +
-                ": no /surface; expected a volume component's exported surface ([surface] export = true "
-                "in the component file, docs/hdf5-format.md)");
-  if (!se.orthonormalized && se.rigid_body_modes_contained > 0)
-    throw Error(file + ": a raw " + se.method +
-                " basis (rigid_body_modes_contained = " + std::to_string(se.rigid_body_modes_contained) +
-                "): solve's modal velocities refer to the elastic modes it derives from it; expected an "
-                "orthonormalized superelement (condense's default)");
-  if (modes > se.size())
-    throw Error(command.results.string() + ":/bodies/" + command.body +
-                "/modal_velocities: " + std::to_string(modes) + " coordinates, but " + file + " has " +
-                std::to_string(se.size()) + "; expected the superelement of body '" + command.body + "'");
-  return se;
-}
 
 int segment_length(const ErpCommand& command, double fs, std::int64_t samples, const std::string& name) {
   if (command.segment_length > 0 || command.resolution_hz > 0.0) {
@@ -151,9 +104,9 @@ void run_erp(const ErpCommand& command, const Logger& log, int argc, const char*
   const CommonOptions& common = command.common;
   if (!(command.density_kg_m3 > 0.0) || !(command.sound_speed_m_s > 0.0))
     throw Error("erp: --rho and --sound-speed must be positive");
-  std::vector<SignalSource> modal = open_modal_velocities(command);
+  std::vector<SignalSource> modal = open_body_columns(command.results, command.body, "modal_velocities");
   const auto modes = static_cast<Eigen::Index>(modal.size());
-  const SuperelementFile se = read_surface(command, modes);
+  const SuperelementFile se = read_body_surface(command.superelement, command.results, command.body, modes);
   const SurfaceExport& surface = *se.surface;
   const auto nodes = static_cast<Eigen::Index>(surface.labels.size());
 
@@ -184,18 +137,10 @@ void run_erp(const ErpCommand& command, const Logger& log, int argc, const char*
   // With --include-rigid: the frame's velocity, angular velocity (global axes) and Euler parameters, sampled
   // with the modal velocities (solve writes them for every body).
   std::vector<SignalSource> frame;
-  if (command.include_rigid) {
-    const std::string body = command.results.string() + ":/bodies/" + command.body + "/";
-    for (const auto& [dataset, columns] :
-         {std::pair{"velocity", 3}, {"angular_velocity", 3}, {"euler_parameters", 4}})
-      for (int c = 0; c < columns; ++c)
-        frame.push_back(SignalSource::open(body + dataset + "[" + std::to_string(c) + "]"));
-    for (const SignalSource& s : frame)
-      if (s.size() != modal.front().size() || s.info().sample_rate_hz != modal.front().info().sample_rate_hz)
-        throw Error("erp: '" + s.info().address + "' (" + std::to_string(s.size()) +
-                    " samples) is not sampled with the modal velocities (" +
-                    std::to_string(modal.front().size()) + " samples)");
-  }
+  if (command.include_rigid)
+    frame = open_frame_columns(command.results, command.body,
+                               {{"velocity", 3}, {"angular_velocity", 3}, {"euler_parameters", 4}},
+                               modal.front());
   for (SignalSource& s : modal) apply_window(s, common.window, nullptr, 0.0, common.block, log);
   for (SignalSource& s : frame) apply_window(s, common.window, nullptr, 0.0, common.block, log);
   std::future<Provenance> provenance = start_provenance({command.results, command.superelement}, argc, argv);
