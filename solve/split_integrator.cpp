@@ -495,7 +495,7 @@ class SplitIntegrator final : public Integrator {
       cpu_jacobian_ += seconds(Clock::now() - start);
       stats_.jacobian_evaluations += 2;
     }
-    if (stepped_) consistent_derivatives();
+    consistent_derivatives();  // also at the first step: a --restart starts from a checkpoint taken before it
     if (s_.coupling_correction) {  // (S5): R(s) = F(T) + s dF/dt along the linear extrapolation
       model_.residual(t_, y_.data(), yp_.data(), f0_.data());
       const double eps = 1e-6 * h;
