@@ -195,6 +195,9 @@ struct Group {
   }
 };
 
+/// A signal (SIGINT, SIGTERM) inside a macro step: it is abandoned (SplitIntegrator::advance).
+struct Interrupted {};
+
 class SplitIntegrator final : public Integrator {
  public:
   SplitIntegrator(const Model& model, const IntegratorSettings& s, double t0, const Eigen::VectorXd& y0,
@@ -230,7 +233,11 @@ class SplitIntegrator final : public Integrator {
     while (t_ < t_target && t_ < t_stop) {
       double h = s_.macro_step;
       if (t_ + 1.001 * h >= t_stop) h = t_stop - t_;  // land on t_stop, no sliver step
-      macro_step(h);
+      try {
+        macro_step(h);
+      } catch (const Interrupted&) {
+        break;  // the macro step abandoned: the state stays at its start, which run.cpp checkpoints
+      }
       if (interrupt_requested()) break;
     }
     cpu_total_ += seconds(Clock::now() - start);
@@ -470,6 +477,7 @@ class SplitIntegrator final : public Integrator {
       g.non_finite.clear();
       g.record.add(tret, view(g.u).head(no), view(g.up).head(no));
       if (flag == IDA_TSTOP_RETURN || tret >= t_ + h) break;
+      if (interrupt_requested()) throw Interrupted{};  // a signal inside a long macro step
     }
     IDAGetCurrentStep(g.mem, &g.next_step);
     long v = 0;
