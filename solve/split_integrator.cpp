@@ -1,20 +1,22 @@
 // The body-wise partitioned integrator (split_integrator.hpp); the scheme and its equations are in
-// docs/theory/split-integrator.md, numbered (S1)-(S7) there and referred to below.
+// docs/theory/split-integrator.md, numbered (S1)-(S6) there and referred to below.
 //
 // Over a macro step [T, T + H] each group g solves its own rows of the model's residual (model.hpp)
 //   F_g(t, y_g, y_g', y_o(t), y_o'(t)) = 0                                                        (S1)
-// for its own unknowns y_g, the other groups' unknowns y_o taken as known polynomials of time:
+// for its own unknowns y_g, the other groups' unknowns y_o taken as known functions of time:
 //   extrapolated from T, y_o(T + s) = y_o(T) + s y_o'(T) + s^2/2 a_o  (degree 0, 1 or 2)           (S2)
 //   a_o = (y_o'(T) - y_o'(T - H_prev)) / H_prev,
-// or the cubic Hermite interpolant of (y_o, y_o') at T and T + H once group o has been advanced
-// (Gauss-Seidel, and every corrector pass: the previous pass's end) (S3) With the coupling correction, the
-// partners' unknowns in g's equations are y_o(t) + delta_o(t), delta_o integrated with g from delta_o(T) = 0
-// on the partners' residual linearized at the start of the macro step:
-//   A_oo delta_o + B_oo delta_o' + A_og (y_g - yref_g) + B_og (y_g' - yref_g') = 0,                 (S5)
+// or, once group o has been advanced (Gauss-Seidel; every corrector pass), the piecewise cubic Hermite
+// interpolant of (y_o, y_o') on the steps its IDA took (S3). Corrector passes stop when the end state changes
+// by less than the tolerances (S4). With the coupling correction, the partners' unknowns in g's equations are
+// yhat_o(t) + delta_o(t), integrated with g from delta_o(T) = 0 on the partners' rows linearized at the
+// start:
+//   R_o(s) + A_oo delta_o + B_oo delta_o' + A_og (y_g - yhat_g) + B_og (y_g' - yhat_g') = 0,        (S5)
 //   A = dF/dy, B = dF/dy' at (T, y(T), y'(T)) (Model::jacobian at cj = 0 and 1),
-// yref_g being the motion the partners were given for g ((S2) or (S3)): the partners respond, linearly, to
-// g's departure from the motion they assume - the interface Jacobian that keeps stiff couplings stable.
-// Each group is its own SUNDIALS IDA instance, restarted (IDAReInit) at each macro step and pass.
+//   R_o(s) = F_o(T) + s dF_o/dt along yhat (the predictor pass; 0 in corrector passes),
+// yhat the linear extrapolation (predictor) or the previous pass (corrector): the partners respond, linearly,
+// to g's motion - the interface Jacobian that keeps stiff couplings stable. Each group is its own SUNDIALS
+// IDA instance, restarted (IDAReInit) at each macro step and pass from a consistent state (S6).
 #include "solve/split_integrator.hpp"
 
 #include <ida/ida.h>
