@@ -25,6 +25,7 @@
 #include "common/interrupt.hpp"
 #include "solve/integrator.hpp"
 #include "solve/jacobian.hpp"
+#include "solve/split_integrator.hpp"
 
 namespace nvh::solve {
 
@@ -361,6 +362,7 @@ class IdaIntegrator final : public Integrator {
 std::unique_ptr<Integrator> make_integrator(const Model& model, const IntegratorSettings& s, double t0,
                                             const Eigen::VectorXd& y0, const Eigen::VectorXd& yp0) {
   if (s.method == "generalized-alpha") return make_generalized_alpha(model, s, t0, y0, yp0);
+  if (s.method == "split") return make_split_integrator(model, s, t0, y0, yp0);
   return std::make_unique<IdaIntegrator>(model, s, t0, y0, yp0);
 }
 

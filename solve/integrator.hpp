@@ -12,7 +12,7 @@
 namespace nvh::solve {
 
 struct IntegratorSettings {
-  std::string method = "ida";    // "ida" (BDF, SUNDIALS) or "generalized-alpha"
+  std::string method = "ida";  // "ida" (BDF, SUNDIALS), "generalized-alpha" or "split" (split_integrator.hpp)
   double rtol = 1e-6;
   double atol = 1e-8;
   double multiplier_atol = 1e-3;  // absolute tolerance of the multipliers (N, N m; index-2 variables)
@@ -29,6 +29,13 @@ struct IntegratorSettings {
   bool adaptive = true;          // generalized-alpha: halve the step when Newton fails, grow it back
   std::string jacobian = "analytic";  // "analytic" (model.hpp), "colored-fd" (sparse differences) or "dense-fd"
   bool events = true;            // locate the sign changes of the contact gaps (Model::gaps) as step boundaries
+  // method = "split" (split_integrator.hpp, docs/theory/split-integrator.md)
+  double macro_step = 0;            // s: H, the exchange interval between the groups
+  std::string exchange = "jacobi";  // "jacobi" or "gauss-seidel"
+  int extrapolation = 1;            // degree (0, 1, 2) of the other groups' extrapolated motion
+  bool coupling_correction = true;  // linearized partner response (the interface Jacobian)
+  int iterations = 0;               // corrector passes of each macro step (waveform relaxation)
+  std::vector<std::vector<std::string>> split_groups;  // body names to integrate in one group
 };
 
 /// A located sign change of a contact gap (Model::gaps): onset (open -> closed, the gap falls below 0) or

@@ -226,6 +226,7 @@ class SceneReader {
   void read_clock(const Table& root);
   void read_steady_state_table(const Table& root);
   void read_integrator(const Table& root);
+  void read_split(const Table& t);
   void read_output(const Table& root);
 
   std::filesystem::path base_;
@@ -401,7 +402,7 @@ void SceneReader::read_integrator(const Table& root) {
   const auto t = root.optional_table("integrator");
   if (!t) return;
   auto& s = s_.integrator;
-  s.method = t->optional_choice("method", {"ida", "generalized-alpha"}).value_or(s.method);
+  s.method = t->optional_choice("method", {"ida", "generalized-alpha", "split"}).value_or(s.method);
   s.rtol = t->number_or("rtol", s.rtol, Range::open(0.0, 1.0));
   // Absolute tolerances of positions (m, rad) above 1 and of multipliers (N, N m) above the coefficients'
   // bound let the error test accept anything: the run ends "complete" with meaningless results.
@@ -426,7 +427,58 @@ void SceneReader::read_integrator(const Table& root) {
   s.adaptive = t->optional_boolean("adaptive").value_or(s.adaptive);
   s.jacobian = t->optional_choice("jacobian", {"analytic", "colored-fd", "dense-fd"}).value_or(s.jacobian);
   s.events = t->optional_boolean("events").value_or(s.events);
+  read_split(*t);
   t->finish();
+}
+
+// method = "split" (split_integrator.hpp; docs/scene-format.md section 7): its keys, refused for other
+// methods.
+void SceneReader::read_split(const Table& t) {
+  auto& s = s_.integrator;
+  const bool split = s.method == "split";
+  for (const char* key :
+       {"macro_step", "exchange", "extrapolation", "coupling_correction", "iterations", "groups"})
+    if (!split && t.has(key))
+      t.fail(key, "applies to method = \"split\" only (method is \"" + s.method + "\")");
+  if (!split) return;
+  if (!t.has("macro_step"))
+    t.fail("macro_step",
+           "method = \"split\" needs macro_step, the exchange interval H between the groups (s)");
+  s.macro_step = t.number("macro_step", Range{0.0, bounds::kTime, true, false});
+  const double span = s_.end_time - s_.start_time;
+  if (s_.end_angle_deg == 0 && span / s.macro_step > bounds::kMaxSteps)
+    t.fail("macro_step", "expected a macro_step >= " + format_number(span / bounds::kMaxSteps) +
+                             " s: the run would take " + format_number(span / s.macro_step) +
+                             " macro steps, more than the limit of " + format_number(bounds::kMaxSteps));
+  s.exchange = t.optional_choice("exchange", {"jacobi", "gauss-seidel"}).value_or(s.exchange);
+  s.extrapolation =
+      static_cast<int>(t.optional_integer("extrapolation", Range::closed(0, 2)).value_or(s.extrapolation));
+  s.coupling_correction = t.optional_boolean("coupling_correction").value_or(s.coupling_correction);
+  s.iterations =
+      static_cast<int>(t.optional_integer("iterations", Range::closed(0, 100)).value_or(s.iterations));
+  if (t.has("groups")) {
+    for (const auto& text : t.strings("groups")) {  // "crank+conrod+piston": bodies integrated together
+      std::vector<std::string> names;
+      std::size_t from = 0;
+      while (from <= text.size()) {
+        const std::size_t to = std::min(text.find('+', from), text.size());
+        names.push_back(text.substr(from, to - from));
+        from = to + 1;
+      }
+      for (const auto& name : names) {
+        const auto it = body_index_.find(name);
+        if (it == body_index_.end() || s_.model.bodies[it->second]->state_count() == 0)
+          t.fail("groups",
+                 "'" + text + "': no moving body '" + name +
+                     "' (a group is the names of moving bodies joined by '+', e.g. \"crank+block\")");
+      }
+      s.split_groups.push_back(names);
+    }
+  }
+  if (s.jacobian != "analytic")
+    t.fail("jacobian",
+           "method = \"split\" uses the analytic Jacobian (its coupling correction needs it); "
+           "expected \"analytic\"");
 }
 
 void SceneReader::read_output(const Table& root) {
