@@ -48,6 +48,14 @@ PitchPoint pitch_point(const CamProfile& profile, double psi) {
   p.ny = -p.dx / speed;
   const double den = rho * rho + 2 * d1 * d1 - rho * d2;
   p.radius_of_curvature = den == 0 ? std::numeric_limits<double>::infinity() : speed * speed * speed / den;
+  // R = N / D, N = (rho^2 + rho'^2)^(3/2), D = rho^2 + 2 rho'^2 - rho rho'' (den): dN = 3 sqrt(rho^2 +
+  // rho'^2) rho' (rho + rho''), dD = 2 rho rho' + 3 rho' rho'' - rho rho''' (rho''' = -s''' as rho(psi) = ..
+  // + s(-psi)).
+  if (den != 0) {
+    const double d3 = -l.ddds;
+    const double dn = 3 * speed * d1 * (rho + d2), dd = 2 * rho * d1 + 3 * d1 * d2 - rho * d3;
+    p.radius_derivative = (dn * den - speed * speed * speed * dd) / (den * den);
+  }
   return p;
 }
 

@@ -52,6 +52,7 @@ struct PitchPoint {
   double ddx = 0, ddy = 0;
   double nx = 0, ny = 0;
   double radius_of_curvature = 0;
+  double radius_derivative = 0;  // d(radius_of_curvature)/dpsi (m/rad); 0 where the radius is infinite
 };
 PitchPoint pitch_point(const CamProfile& profile, double psi);
 

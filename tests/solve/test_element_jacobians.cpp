@@ -522,6 +522,80 @@ TEST(ElementJacobians, RollerCamOnEveryRegionOfTheProfile) {
   expect_matches(*eccentric.element, open, "roller-cam open", false);
 }
 
+// roller-cam's options (valvetrain.md section 2): the crowned roller's point law on the polynomial event,
+// whose curvature changes along the profile (K follows the foot: R_p'(psi)), and on the tangent cam with a
+// crown smaller than the rolling radius (the ellipse's major axis in the rolling plane); the roller's
+// resistance in pure rolling; the slipping roller whose spin is a state (slip speed within +-0.3 m/s of pure
+// rolling, a regularization of 0.3 m/s and a Stribeck hump so that mu' and tanh' enter). Placed as in the
+// test above.
+TEST(ElementJacobians, RollerCamCrownedAndWithRollerFriction) {
+  const std::string common = "roller_width = 0.015\nrestitution = 0.7\nroller_radius = 0.012\n";
+  const std::string poly =
+      "profile = \"polynomial\"\nbase_radius = 0.02\nlift = 0.008\nrise_deg = 60\nramp_deg = 20\n"
+      "ramp_height = 0.0003\n";
+  const std::string tang =
+      "profile = \"tangent\"\nbase_radius = 0.02\nnose_radius = 0.01\nlobe_distance = 0.02\n";
+  const std::string resistance = "pin_friction = 0.1\npin_radius = 0.004\nrolling_resistance = 1e-4\n";
+  const std::string slip =
+      "roller_inertia = 2e-6\nmu_static = 0.15\nmu_dynamic = 0.08\nstribeck_speed = "
+      "0.2\nregularization_speed = 0.3\n";
+  const std::vector<MarkerMotion> two{MarkerMotion{}, MarkerMotion{}};
+  const Built crowned = build("force", "roller-cam", common + poly + "crown_radius = 0.5\n", two);
+  const Built ball = build("force", "roller-cam", common + tang + "crown_radius = 0.004\n", two);
+  const Built rolling =
+      build("force", "roller-cam", common + poly + resistance + "regularization_speed = 0.3\n", two);
+  const Built slipping =
+      build("force", "roller-cam", common + poly + "crown_radius = 0.5\n" + resistance + slip, two);
+  const Built slipping_line = build("force", "roller-cam", common + tang + resistance + slip, two);
+  const auto profile_of = [](const std::string& keys) {
+    const input::Document doc = input::Document::parse(keys, "cam.toml");
+    std::vector<std::filesystem::path> files;
+    return cam::read_cam_profile(doc.root(), ".", files);
+  };
+  const auto poly_profile = profile_of(poly + "roller_radius = 0.012\n");
+  const auto tang_profile = profile_of(tang + "roller_radius = 0.012\n");
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const auto place = [&](const cam::CamProfile& profile, double psi, bool spin) {
+    Point p = two_random(rng, 0.05);
+    MarkerMotion& cam = p.markers[1];
+    const cam::PitchPoint pp = cam::pitch_point(profile, psi);
+    const double depth = 3e-3 * (1.0 + 0.3 * u(rng));  // deep: the differences step is 1e-6 m
+    const Vec3 local(pp.x - depth * pp.nx, pp.y - depth * pp.ny, 0.003 * u(rng));
+    p.markers[0].position = cam.position + cam.axes * local;
+    const Vec3 n = cam.axes * Vec3(pp.nx, pp.ny, 0.0);
+    const Vec3 vr = p.markers[0].velocity - cam.velocity -
+                    cam.angular_velocity.cross(p.markers[0].position - cam.position);
+    p.markers[0].velocity += (1e-3 * u(rng) - n.dot(vr)) * n;
+    if (spin) {  // the roller's spin: pure rolling (v_slip = 0) plus a slip of up to 0.3 m/s
+      const Vec3 t = cam.axes * Vec3(pp.dx, pp.dy, 0.0).normalized(), z = cam.axes.col(2);
+      const Vec3 vr2 = p.markers[0].velocity - cam.velocity -
+                       cam.angular_velocity.cross(p.markers[0].position - cam.position);
+      const double rolling = (t.dot(vr2) + 0.012 * z.dot(cam.angular_velocity)) / 0.012;
+      p.z = {rolling + 0.3 * u(rng) / 0.012};
+      p.zp = {1e3 * u(rng)};
+    }
+    return p;
+  };
+  // Not at the polynomial event's top (0 deg) itself: its jerk jumps there, so the pitch curve's curvature
+  // has a kink and central differences straddling it disagree with either side (the plain element's too).
+  for (const double deg : {3.0, -2.0, 25.0, -50.0, 70.0, 120.0, 200.0}) {
+    const double psi = -deg * std::numbers::pi / 180;
+    const std::string at = " at " + std::to_string(deg);
+    expect_matches(*crowned.element, place(*poly_profile, psi, false), "roller-cam crowned, polynomial" + at);
+    expect_matches(*ball.element, place(*tang_profile, psi, false), "roller-cam crown 4 mm, tangent" + at);
+    expect_matches(*rolling.element, place(*poly_profile, psi, false), "roller-cam rolling resistance" + at);
+    expect_matches(*slipping.element, place(*poly_profile, psi, true), "roller-cam slipping, crowned" + at);
+    expect_matches(*slipping_line.element, place(*tang_profile, psi, true),
+                   "roller-cam slipping, tangent" + at);
+  }
+  Point open = place(*poly_profile, 0.3, false);
+  open.markers[0].position =
+      open.markers[1].position + open.markers[1].axes * Vec3(0.06, 0.01, 0.0);  // lifted off
+  expect_matches(*crowned.element, open, "roller-cam crowned, open", false);
+  expect_matches(*rolling.element, open, "roller-cam rolling resistance, open", false);
+}
+
 // The piston-liner element scaled up so that the differences step (1e-6 m, relative to the clearance 0.5 m)
 // resolves the film: a skirt of 0.1 m in a bore of radius 1 m, random marker motions keep the film above 0.1
 // m; the asperities (sigma 0.04 m) touch where the film is below 0.16 m; the film solved to 1e-13.
