@@ -251,7 +251,8 @@ SkirtResult SkirtFilm::evaluate(const SkirtKinematics& k, const LinerField* line
     bool sized = liner->lattice.size() == arcs_.size() && liner->rate.size() == arcs_.size();
     for (std::size_t a = 0; sized && a < arcs_.size(); ++a)
       sized = liner->lattice[a].size() == lattice && liner->rate[a].size() == cells;
-    if (!sized) throw Error("skirt '" + spec_.name + "': the liner field does not match the film's arcs and grid");
+    if (!sized)
+      throw Error("skirt '" + spec_.name + "': the liner field does not match the film's arcs and grid");
   }
   struct Reset {  // the liner is seen during this evaluation only
     const LinerField*& at;

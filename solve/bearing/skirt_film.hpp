@@ -167,10 +167,10 @@ struct SkirtResult {
 
 /// A deformable liner (the elasto-hydrodynamic piston-liner element, docs/bearing.md section 17): the liner's
 /// radial displacement u (m, outwards: the film grows) on the lattice of half cells of each arc - index
-/// i2 + (2 nx + 1) k2, i2 = 0 .. 2 nx from the bottom edge (even: faces, odd: centres), k2 = 0 .. 2 nz from the
-/// arc's start - and the liner's part of the squeeze dh/dt (m/s) at the cells' centres (index i + nx kz).
-/// The film becomes h = (rigid-liner film) + u, dh/dt = (piston's part) + rate; the power of the pressure counts
-/// both (SkirtResult::power_loss). One entry per arc; empty vectors: a rigid liner.
+/// i2 + (2 nx + 1) k2, i2 = 0 .. 2 nx from the bottom edge (even: faces, odd: centres), k2 = 0 .. 2 nz from
+/// the arc's start - and the liner's part of the squeeze dh/dt (m/s) at the cells' centres (index i + nx kz).
+/// The film becomes h = (rigid-liner film) + u, dh/dt = (piston's part) + rate; the power of the pressure
+/// counts both (SkirtResult::power_loss). One entry per arc; empty vectors: a rigid liner.
 struct LinerField {
   std::vector<std::vector<double>> lattice;  ///< m, per arc
   std::vector<std::vector<double>> rate;     ///< m/s, per arc
@@ -214,7 +214,7 @@ class SkirtFilm {
     std::vector<double> cos_c, sin_c, ovality_c;  // at the cells' centres
     std::vector<double> cos_f, ovality_f;         // at the nz + 1 faces around (the start edge first)
     std::vector<double> h_nominal;                // m, the nominal film at the cells' centres (asperities)
-    std::vector<double> p_total;                  // Pa, film + asperity pressure at the centres (last solution)
+    std::vector<double> p_total;  // Pa, film + asperity pressure at the centres (last solution)
     FilmSolver film;
     Eigen::VectorXd P, r;
     FilmAssembly fluxes;  // at the last solution (the flows)
@@ -222,7 +222,8 @@ class SkirtFilm {
   void set_motion(const SkirtKinematics& k);
   SkirtResult post_process(const SkirtKinematics& k);
   const LinerField* liner_ = nullptr;  // during one evaluation: the deformable liner, or nullptr (rigid)
-  /// m, the liner's displacement on arc a's lattice point (i2, k2), m/s its squeeze rate at cell m; 0 if rigid
+  /// m, the liner's displacement on arc a's lattice point (i2, k2), m/s its squeeze rate at cell m; 0 if
+  /// rigid
   double liner_u(int a, int i2, int k2) const {
     return liner_ ? liner_->lattice[a][i2 + (2 * nx_ + 1) * k2] : 0.0;
   }

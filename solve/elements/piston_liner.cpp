@@ -42,8 +42,8 @@
 // step.
 //
 // The elasto-hydrodynamic liner (optional key `liner`, docs/bearing.md section 17): N markers on the liner's
-// surface (markers 2 .. N+1, after i and j), e.g. points of a flexible block, forming a grid of axial levels x
-// angles in j's frame at the initial state (Z_k = z_j . q_k, theta_k from x_j towards w, q_k = p_k - p_j).
+// surface (markers 2 .. N+1, after i and j), e.g. points of a flexible block, forming a grid of axial levels
+// x angles in j's frame at the initial state (Z_k = z_j . q_k, theta_k from x_j towards w, q_k = p_k - p_j).
 // Marker k's radial displacement and rate (relative to j, outwards):
 //   u_k  = |P q_k| - rho_k0,  P = 1 - z_j z_j^T, rho_k0 = |P q_k| at the initial state
 //   u_k' = n_k . (v_k - v_j - w_j x q_k),   n_k = P q_k / |P q_k|
@@ -53,10 +53,10 @@
 // squeeze (eq. 12 with the liner's moving profile, in the piston's frame):
 //   h   = (rigid-liner h) + u,    dh/dt = (piston's part) + sum_k W_k u_k' + V sum_k dW_k/dZ u_k
 // Forces: each cell's pressure p_c (film + asperities) times its area pushes the liner outwards; it goes to
-// the markers by the transpose of the same interpolation at the cells' centres, F_k = n_k sum_c W_k(c) p_c dA,
-// and the liner's slope pushes the piston along the axis by F_s = sum_c p_c (du/dZ)_c dA (added to
-// F_friction). j gets the rest of the reaction: -(F + sum F_k), -(T + d x F + sum q_k x F_k). The power of all
-// wrenches is then F_side e'(0) - M tilt' + F_friction V + sum_k F_k . n_k u_k' = -(power_loss + d/dt of
+// the markers by the transpose of the same interpolation at the cells' centres, F_k = n_k sum_c W_k(c) p_c
+// dA, and the liner's slope pushes the piston along the axis by F_s = sum_c p_c (du/dZ)_c dA (added to
+// F_friction). j gets the rest of the reaction: -(F + sum F_k), -(T + d x F + sum q_k x F_k). The power of
+// all wrenches is then F_side e'(0) - M tilt' + F_friction V + sum_k F_k . n_k u_k' = -(power_loss + d/dt of
 // the asperity energy) with the film's power loss counting p dh/dt of the full dh/dt above.
 // Jacobian with liner markers: the film's outputs and the N marker forces by central differences in the
 // 5 inputs, zeta and each active marker's u_k and u_k' (those whose weights touch the skirt now: 2 film
@@ -149,7 +149,10 @@ class PistonLiner final : public ForceElement {
  public:
   PistonLiner(bearing::SkirtSpec spec, bearing::FiniteSolverOptions options, double mu_asperity,
               double regularization_speed, LinerGrid grid = {})
-      : film_(std::move(spec), options), mu_(mu_asperity), v_s_(regularization_speed), grid_(std::move(grid)) {
+      : film_(std::move(spec), options),
+        mu_(mu_asperity),
+        v_s_(regularization_speed),
+        grid_(std::move(grid)) {
     const auto& s = film_.spec();
     s_top_ = s.skirt_top, s_bottom_ = s.skirt_top - s.skirt_length;
     if (grid_.size() > 0) {
@@ -200,7 +203,8 @@ class PistonLiner final : public ForceElement {
     const Outputs& o = outputs(inputs(in));
     const Vec3 x = j.axes.col(0), z = j.axes.col(2);
     apply_at_i(in, out, o.side * x + o.friction * z, o.moment * x.cross(i.axes.col(2)), i.position);
-    for (int m = 0; m < grid_.size(); ++m) {  // the liner markers: F_k = f_k n_k, the rest of the reaction on j
+    for (int m = 0; m < grid_.size();
+         ++m) {  // the liner markers: F_k = f_k n_k, the rest of the reaction on j
       const Vec3 q = in.markers[2 + m].position - j.position, pq = q - z * z.dot(q);
       const Vec3 force = o.liner_force[m] * pq.normalized();
       out.wrenches[2 + m].force = force;
@@ -228,10 +232,10 @@ class PistonLiner final : public ForceElement {
     const bearing::SkirtResult& r = o.film;
     double total = 0;
     for (double fk : o.liner_force) total += fk;
-    const double values[] = {r.min_film, r.max_pressure, o.side,          o.moment,
-                             o.friction, o.power_loss,   r.asperity_load, r.flow_bottom + r.flow_top,
-                             f.u[0],     f.u[1],         f.u[4],          r.asperity_energy,
-                             o.liner_max, total,         o.uncovered};
+    const double values[] = {r.min_film,  r.max_pressure, o.side,          o.moment,
+                             o.friction,  o.power_loss,   r.asperity_load, r.flow_bottom + r.flow_top,
+                             f.u[0],      f.u[1],         f.u[4],          r.asperity_energy,
+                             o.liner_max, total,          o.uncovered};
     for (std::size_t k = 0; k < v.size() && k < std::size(values); ++k) v[k] = values[k];
   }
   /// Stored: the asperities' elastic energy; dissipated: power_loss (see the top).
@@ -304,7 +308,8 @@ class PistonLiner final : public ForceElement {
             double slope = 0;
             for (const auto& e : w) o.liner_force[e.k] += e.w * load, slope += e.dw * f.lu[e.k];
             o.slope_force += load * slope;
-            o.liner_max = std::max(o.liner_max, std::abs(field_.lattice[a][2 * i + 1 + (2 * nx + 1) * (2 * kz + 1)]));
+            o.liner_max =
+                std::max(o.liner_max, std::abs(field_.lattice[a][2 * i + 1 + (2 * nx + 1) * (2 * kz + 1)]));
           }
       }
       o.friction += o.slope_force;
@@ -438,8 +443,8 @@ bool PistonLiner::jacobian(const ElementInput& in, ElementJacobian& jac) const {
     const Vec3 nk = pq / rho;
     normal[k] = nk;
     const Mat3 proj = Mat3::Identity() - nk * nk.transpose();
-    dn_dq[k] = (proj - z * z.transpose()) / rho;                                      // dn / dq
-    dn_dth[k] = (z.dot(q) * proj * skew(z) - z * z.cross(q).transpose()) / rho;      // dn / dth_j
+    dn_dq[k] = (proj - z * z.transpose()) / rho;                                 // dn / dq
+    dn_dth[k] = (z.dot(q) * proj * skew(z) - z * z.cross(q).transpose()) / rho;  // dn / dth_j
   }
   if (n > 0) {
     put(5, 0, z), put(5, 12, -z), put(5, 15, z.cross(d));  // zeta = z . d
@@ -471,7 +476,8 @@ bool PistonLiner::jacobian(const ElementInput& in, ElementJacobian& jac) const {
   dt.block<3, 3>(0, 15) += o0.moment * (x * a.transpose() - a.dot(x) * Mat3::Identity());
   dt.block<3, 3>(0, 3) += o0.moment * (x.dot(a) * Mat3::Identity() - a * x.transpose());
   jacobian_at_i(in, jac, df, dt, force);
-  // The liner markers (as point-set-contact): rows of k dF_k; rows of j -dF_k and -q~ dF_k + F_k~ (dp_k - dp_j)
+  // The liner markers (as point-set-contact): rows of k dF_k; rows of j -dF_k and -q~ dF_k + F_k~ (dp_k -
+  // dp_j)
   auto& mat = jac.matrix;
   for (int k = 0; k < n; ++k) {
     const int ck = 12 * (2 + k), rk = 6 * (2 + k);
@@ -576,8 +582,8 @@ LinerGrid liner_grid(const input::Table& t, const ElementContext& c, double R) {
   g.rho0.resize(n);
   for (int k = 0; k < n; ++k) {
     if (c.marker_bodies[2 + k] == c.marker_bodies[0])
-      t.fail("liner", "liner marker " + std::to_string(k + 1) + " is on the piston's body '" + c.marker_bodies[0] +
-                          "'");
+      t.fail("liner", "liner marker " + std::to_string(k + 1) + " is on the piston's body '" +
+                          c.marker_bodies[0] + "'");
     const Vec3 q = c.initial[2 + k].position - j.position;
     zs[k] = z.dot(q), ths[k] = std::atan2(w.dot(q), x.dot(q));
     g.rho0[k] = std::hypot(x.dot(q), w.dot(q));
@@ -597,8 +603,10 @@ LinerGrid liner_grid(const input::Table& t, const ElementContext& c, double R) {
   g.z = levels(zs, ztol), g.theta = levels(ths, ttol);
   const int nz = static_cast<int>(g.z.size()), nt = static_cast<int>(g.theta.size());
   if (nz * nt != n)
-    t.fail("liner", "the " + std::to_string(n) + " liner markers must form a grid of axial levels x angles in j's "
-                    "frame: found " + std::to_string(nz) + " levels and " + std::to_string(nt) + " angles");
+    t.fail("liner", "the " + std::to_string(n) +
+                        " liner markers must form a grid of axial levels x angles in j's "
+                        "frame: found " +
+                        std::to_string(nz) + " levels and " + std::to_string(nt) + " angles");
   g.marker.assign(n, -1);
   auto find = [](const std::vector<double>& v, double e, double tol) {
     return static_cast<int>(std::lower_bound(v.begin(), v.end(), e - tol) - v.begin());
@@ -634,7 +642,8 @@ void register_piston_liner(ElementRegistry& r) {
            bearing::FiniteSolverOptions options;
            options.tolerance = t.number_or("film_tolerance", 1e-10, input::Range::closed(1e-14, 1e-4));
            const auto& bodies = c.marker_bodies;  // i, j, then the liner markers
-           if (bodies.size() > 2 && bodies[0] == bodies[1])  // (the scene reader leaves this to a list element)
+           if (bodies.size() > 2 &&
+               bodies[0] == bodies[1])  // (the scene reader leaves this to a list element)
              t.fail("j", "markers i and j are on the same body: a force element connects two bodies");
            LinerGrid grid;
            if (bodies.size() > 2) grid = liner_grid(t, c, spec.bore_radius);

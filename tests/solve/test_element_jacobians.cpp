@@ -562,7 +562,8 @@ TEST(ElementJacobians, PistonLinerFromFilmToContact) {
 // axial levels x 6 angles on the bore (R 1 m) around the piston's position, each marker displaced radially by
 // up to 0.05 m (a tenth of the clearance) and moving at random; j moving at random as well (the markers'
 // radial rates are relative to it); in the film and in mixed contact. The liner markers' columns are central
-// differences of the film (piston_liner.cpp): the check is that the chain rule and the force transfer are right.
+// differences of the film (piston_liner.cpp): the check is that the chain rule and the force transfer are
+// right.
 TEST(ElementJacobians, PistonLinerOnDeformableLinerMarkers) {
   std::mt19937 rng(17);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
@@ -577,7 +578,8 @@ TEST(ElementJacobians, PistonLinerOnDeformableLinerMarkers) {
       initial.push_back(m), bodies.push_back("block");
     }
   for (const std::string& cav : {std::string("jfo"), std::string("none")}) {
-    const input::Document doc = input::Document::parse(kPistonLinerKeys + "cavitation = \"" + cav + "\"\n", "ehl.toml");
+    const input::Document doc =
+        input::Document::parse(kPistonLinerKeys + "cavitation = \"" + cav + "\"\n", "ehl.toml");
     const input::Table t = doc.root();
     std::vector<std::filesystem::path> files;
     ElementContext c{t, ".", files, initial, bodies};
@@ -596,7 +598,8 @@ TEST(ElementJacobians, PistonLinerOnDeformableLinerMarkers) {
         const Vec3 local = initial[k].position;
         const Vec3 radial = Vec3(local.x(), local.y(), 0).normalized();
         m.position = j.position + j.axes * (local + 0.05 * u(rng) * radial);
-        m.velocity = j.velocity + j.angular_velocity.cross(m.position - j.position) + 0.3 * u(rng) * (j.axes * radial);
+        m.velocity =
+            j.velocity + j.angular_velocity.cross(m.position - j.position) + 0.3 * u(rng) * (j.axes * radial);
         p.markers.push_back(m);
       }
       expect_matches(*element, p, "piston-liner on liner markers, " + cav + ", e = " + std::to_string(e));
