@@ -6,6 +6,7 @@
 // marker `at`) and [[driver]] types that are force elements (a motor curve). A type declares the marker keys
 // it reads; the scene reader resolves them (with its located errors) before the factory runs, in the order of
 // the keys: a key written `name[]` is a list `name = ["body.m1", ...]` (at least one), its markers in turn.
+// A key written `name[]?` is an optional list: absent, it adds no markers.
 #include <filesystem>
 #include <functional>
 #include <map>

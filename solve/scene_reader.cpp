@@ -308,9 +308,13 @@ void SceneReader::read_element(const Table& t, const std::string& section) {
   std::vector<MarkerRef> markers;
   bool lists = false;
   for (const auto& key : et.marker_keys) {
-    if (key.ends_with("[]")) {  // a list of markers (element_registry.hpp)
+    if (key.ends_with("[]") || key.ends_with("[]?")) {  // a list of markers (element_registry.hpp)
+      const std::string list = key.substr(0, key.find('['));
+      if (key.ends_with("?") && !t.has(list)) {  // an optional list, absent: no markers
+        t.accept(list);
+        continue;
+      }
       lists = true;
-      const std::string list = key.substr(0, key.size() - 2);
       const auto names = t.strings(list);
       if (names.empty()) t.fail(list, "expected at least one marker \"body.marker\"");
       for (const auto& full : names) markers.push_back(marker(t, list, full));

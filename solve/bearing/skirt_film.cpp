@@ -195,7 +195,10 @@ void SkirtFilm::set_motion(const SkirtKinematics& k) {
   const double c = spec_.radial_clearance, R = spec_.bore_radius, mu = spec_.viscosity,
                L = spec_.skirt_length;
   const double U = -0.5 * k.speed;  // mean surface speed along y in the piston's frame (the liner at -V)
-  const double e_rate = std::max(std::abs(k.e_top_dot), std::abs(k.e_bottom_dot));
+  double e_rate = std::max(std::abs(k.e_top_dot), std::abs(k.e_bottom_dot));
+  if (liner_)  // the liner's squeeze rate enters the time scale as the piston's does
+    for (const auto& rate : liner_->rate)
+      for (double r : rate) e_rate = std::max(e_rate, std::abs(r));
   const double p_scale = std::max(spec_.pressure_bottom, spec_.pressure_top) * c * c / (12 * mu * R * R);
   omega_ref_ = std::max({std::abs(U) / R, e_rate / c, p_scale, 1e-9});
   p_ref_ = 12 * mu * R * R * omega_ref_ / (c * c);
@@ -206,7 +209,8 @@ void SkirtFilm::set_motion(const SkirtKinematics& k) {
   };
   // H = h_eff / c: the nominal film itself without a floor
   auto eff = [&](double h) { return effective_film(h, spec_.film_floor).h / c; };
-  for (Arc& arc : arcs_) {
+  for (int a = 0; a < static_cast<int>(arcs_.size()); ++a) {
+    Arc& arc = arcs_[a];
     FilmProblem& f = arc.film.problem;
     f.couette = U / (R * omega_ref_);
     f.p_west = spec_.pressure_bottom / p_ref_;
@@ -217,19 +221,20 @@ void SkirtFilm::set_motion(const SkirtKinematics& k) {
       for (int i = 0; i < nx_; ++i) {
         const int m = i + nx_ * kz;
         const double e_c = e_at(y_c_[i]), e_e = e_at(y_f_[i + 1]);
-        const double hc = c - e_c * cos_c + barrel_c_[i] + ov_c;
+        // the liner's displacement (LinerField: 0 on a rigid liner) at the centre, east and north faces
+        const double hc = c - e_c * cos_c + barrel_c_[i] + ov_c + liner_u(a, 2 * i + 1, 2 * kz + 1);
         arc.h_nominal[m] = hc;
         const double Hc = eff(hc);
-        const double He = eff(c - e_e * cos_c + barrel_f_[i + 1] + ov_c);
-        const double Hn = eff(c - e_c * cos_n + barrel_c_[i] + ov_n);
+        const double He = eff(c - e_e * cos_c + barrel_f_[i + 1] + ov_c + liner_u(a, 2 * i + 2, 2 * kz + 1));
+        const double Hn = eff(c - e_c * cos_n + barrel_c_[i] + ov_n + liner_u(a, 2 * i + 1, 2 * kz + 2));
         f.h_centre_cells[m] = Hc;
         f.h_east_cells[m] = He;
         f.g_east_cells[m] = He * He * He;
         f.g_north_cells[m] = Hn * Hn * Hn;
-        f.hdot_cells[m] = -e_dot_at(y_c_[i]) * cos_c / (c * omega_ref_) *
+        f.hdot_cells[m] = (-e_dot_at(y_c_[i]) * cos_c + liner_rate(a, m)) / (c * omega_ref_) *
                           oil_layer_squeeze_factor(hc, spec_.oil_layer);
       }
-      const double Hw = eff(c - e_at(y_f_[0]) * cos_c + barrel_f_[0] + ov_c);
+      const double Hw = eff(c - e_at(y_f_[0]) * cos_c + barrel_f_[0] + ov_c + liner_u(a, 0, 2 * kz + 1));
       f.h_west_rows[kz] = Hw;
       f.g_west_rows[kz] = Hw * Hw * Hw;
     }
@@ -237,19 +242,38 @@ void SkirtFilm::set_motion(const SkirtKinematics& k) {
 }
 
 SkirtResult SkirtFilm::evaluate(const SkirtKinematics& k) {
+  return evaluate(k, nullptr);
+}
+
+SkirtResult SkirtFilm::evaluate(const SkirtKinematics& k, const LinerField* liner) {
+  if (liner) {
+    const std::size_t lattice = std::size_t(2 * nx_ + 1) * (2 * nz_ + 1), cells = std::size_t(nx_) * nz_;
+    bool sized = liner->lattice.size() == arcs_.size() && liner->rate.size() == arcs_.size();
+    for (std::size_t a = 0; sized && a < arcs_.size(); ++a)
+      sized = liner->lattice[a].size() == lattice && liner->rate[a].size() == cells;
+    if (!sized)
+      throw Error("skirt '" + spec_.name + "': the liner field does not match the film's arcs and grid");
+  }
+  struct Reset {  // the liner is seen during this evaluation only
+    const LinerField*& at;
+    ~Reset() { at = nullptr; }
+  } reset{liner_};
+  liner_ = liner;
   for (double v : {k.e_top, k.e_bottom, k.e_top_dot, k.e_bottom_dot, k.speed})
     if (!std::isfinite(v)) throw Error("skirt '" + spec_.name + "': a kinematic input is not finite");
   // The thinnest film over the cells' centres, faces and corners (the lattice of half cells): the
   // hydrodynamic model ends at contact.
   double h_min = std::numeric_limits<double>::infinity(), h_min_angle = 0, h_min_y = 0;
   const double c = spec_.radial_clearance, L = spec_.skirt_length;
-  for (const Arc& arc : arcs_) {
+  for (int a = 0; a < static_cast<int>(arcs_.size()); ++a) {
+    const Arc& arc = arcs_[a];
     for (int kz = 0; kz <= 2 * nz_; ++kz) {
       const double cs = kz % 2 ? arc.cos_c[kz / 2] : arc.cos_f[kz / 2];
       const double ov = kz % 2 ? arc.ovality_c[kz / 2] : arc.ovality_f[kz / 2];
       for (int i = 0; i <= 2 * nx_; ++i) {
         const double s = 0.5 * i * dy_ / L;
-        const double h = c - (k.e_bottom + (k.e_top - k.e_bottom) * s) * cs + barrel_lattice_[i] + ov;
+        const double h =
+            c - (k.e_bottom + (k.e_top - k.e_bottom) * s) * cs + barrel_lattice_[i] + ov + liner_u(a, i, kz);
         if (h < h_min) {
           h_min = h, h_min_y = y_lattice_[i];
           h_min_angle = std::remainder(arc.start + 0.5 * kz * arc.width / nz_, 2 * kPi);
@@ -309,8 +333,10 @@ SkirtResult SkirtFilm::post_process(const SkirtKinematics& k) {
   SkirtResult out;
   double lateral_power = 0;  // of the pressure forces on the piston
   out.max_pressure = -std::numeric_limits<double>::infinity();
-  for (Arc& arc : arcs_) {
+  for (int a = 0; a < static_cast<int>(arcs_.size()); ++a) {
+    Arc& arc = arcs_[a];
     const FilmProblem& f = arc.film.problem;
+    arc.p_total.assign(std::size_t(nx_) * nz_, 0.0);
     const double dtheta = arc.width / nz_, dA = R * dtheta * dy_;
     for (int kz = 0; kz < nz_; ++kz) {
       const double cs = arc.cos_c[kz], sn = arc.sin_c[kz];
@@ -329,14 +355,17 @@ SkirtResult SkirtFilm::post_process(const SkirtKinematics& k) {
         out.shear_moment += R * tau * cs * dA;
         out.friction_force += tau * dA;
         lateral_power -= p * cs * e_dot_at(y_c_[i]) * dA;
+        if (liner_) lateral_power += p * liner_rate(a, m) * dA;  // the pressure's power on the liner: p dh/dt
+        arc.p_total[m] = p;
         if (spec_.asperity.active()) {
-          const AsperityPressure a = asperity_pressure(spec_.asperity, arc.h_nominal[m]);
-          out.asperity_load += a.p * dA;
-          out.asperity_side_force -= a.p * cs * dA;
-          out.asperity_moment += a.p * y_c_[i] * cs * dA;
-          out.asperity_energy += a.energy * dA;
-          out.asperity_power -= a.p * cs * e_dot_at(y_c_[i]) * dA;
-          out.asperity_max_pressure = std::max(out.asperity_max_pressure, a.p);
+          const AsperityPressure ap = asperity_pressure(spec_.asperity, arc.h_nominal[m]);
+          out.asperity_load += ap.p * dA;
+          out.asperity_side_force -= ap.p * cs * dA;
+          out.asperity_moment += ap.p * y_c_[i] * cs * dA;
+          out.asperity_energy += ap.energy * dA;
+          out.asperity_power -= ap.p * cs * e_dot_at(y_c_[i]) * dA;
+          arc.p_total[m] += ap.p;
+          out.asperity_max_pressure = std::max(out.asperity_max_pressure, ap.p);
         }
         if (p > out.max_pressure) {
           out.max_pressure = p;

@@ -165,6 +165,17 @@ struct SkirtResult {
   double asperity_max_pressure = 0;  ///< Pa
 };
 
+/// A deformable liner (the elasto-hydrodynamic piston-liner element, docs/bearing.md section 17): the liner's
+/// radial displacement u (m, outwards: the film grows) on the lattice of half cells of each arc - index
+/// i2 + (2 nx + 1) k2, i2 = 0 .. 2 nx from the bottom edge (even: faces, odd: centres), k2 = 0 .. 2 nz from
+/// the arc's start - and the liner's part of the squeeze dh/dt (m/s) at the cells' centres (index i + nx kz).
+/// The film becomes h = (rigid-liner film) + u, dh/dt = (piston's part) + rate; the power of the pressure
+/// counts both (SkirtResult::power_loss). One entry per arc; empty vectors: a rigid liner.
+struct LinerField {
+  std::vector<std::vector<double>> lattice;  ///< m, per arc
+  std::vector<std::vector<double>> rate;     ///< m/s, per arc
+};
+
 /// Throws nvh::Error naming the field if the spec is not usable.
 void validate(const SkirtSpec& spec);
 
@@ -179,6 +190,10 @@ class SkirtFilm {
   /// Solves the film for this motion, warm-started from the previous solution (if any). Throws nvh::Error if
   /// the film is <= 0 somewhere without a film floor, or the Newton solve does not converge.
   SkirtResult evaluate(const SkirtKinematics& k);
+  /// The same on a deformable liner (LinerField above, sized for this film's arcs and grid); nullptr: rigid.
+  SkirtResult evaluate(const SkirtKinematics& k, const LinerField* liner);
+  /// Pa, the last solution's film plus asperity pressure at the cells' centres of arc a (index i + nx kz).
+  const std::vector<double>& cell_pressure(int a) const { return arcs_.at(a).p_total; }
   /// Forget the previous solution: the next evaluation starts cold.
   void reset() { has_solution_ = false; }
 
@@ -199,12 +214,20 @@ class SkirtFilm {
     std::vector<double> cos_c, sin_c, ovality_c;  // at the cells' centres
     std::vector<double> cos_f, ovality_f;         // at the nz + 1 faces around (the start edge first)
     std::vector<double> h_nominal;                // m, the nominal film at the cells' centres (asperities)
+    std::vector<double> p_total;  // Pa, film + asperity pressure at the centres (last solution)
     FilmSolver film;
     Eigen::VectorXd P, r;
     FilmAssembly fluxes;  // at the last solution (the flows)
   };
   void set_motion(const SkirtKinematics& k);
   SkirtResult post_process(const SkirtKinematics& k);
+  const LinerField* liner_ = nullptr;  // during one evaluation: the deformable liner, or nullptr (rigid)
+  /// m, the liner's displacement on arc a's lattice point (i2, k2), m/s its squeeze rate at cell m; 0 if
+  /// rigid
+  double liner_u(int a, int i2, int k2) const {
+    return liner_ ? liner_->lattice[a][i2 + (2 * nx_ + 1) * k2] : 0.0;
+  }
+  double liner_rate(int a, int m) const { return liner_ ? liner_->rate[a][m] : 0.0; }
 
   SkirtSpec spec_;
   FiniteSolverOptions options_;

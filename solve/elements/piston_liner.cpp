@@ -40,6 +40,28 @@
 // bearing (journal_bearing_element.cpp): SkirtFilm keeps its last solution (mutable), and the last two
 // results are cached by their inputs. A film that cannot be solved returns a non-finite force: IDA cuts its
 // step.
+//
+// The elasto-hydrodynamic liner (optional key `liner`, docs/bearing.md section 17): N markers on the liner's
+// surface (markers 2 .. N+1, after i and j), e.g. points of a flexible block, forming a grid of axial levels
+// x angles in j's frame at the initial state (Z_k = z_j . q_k, theta_k from x_j towards w, q_k = p_k - p_j).
+// Marker k's radial displacement and rate (relative to j, outwards):
+//   u_k  = |P q_k| - rho_k0,  P = 1 - z_j z_j^T, rho_k0 = |P q_k| at the initial state
+//   u_k' = n_k . (v_k - v_j - w_j x q_k),   n_k = P q_k / |P q_k|
+// The film at a point (theta, y) of the skirt sees the liner at Z = zeta + y, zeta = z_j . (p_i - p_j) (the
+// piston's tilt neglected there): u(Z, theta) = sum_k W_k(Z, theta) u_k, bilinear in (Z, theta) over the grid
+// (periodic around; held constant beyond the axial ends: `liner_uncovered` counts those points). Film and
+// squeeze (eq. 12 with the liner's moving profile, in the piston's frame):
+//   h   = (rigid-liner h) + u,    dh/dt = (piston's part) + sum_k W_k u_k' + V sum_k dW_k/dZ u_k
+// Forces: each cell's pressure p_c (film + asperities) times its area pushes the liner outwards; it goes to
+// the markers by the transpose of the same interpolation at the cells' centres, F_k = n_k sum_c W_k(c) p_c
+// dA, and the liner's slope pushes the piston along the axis by F_s = sum_c p_c (du/dZ)_c dA (added to
+// F_friction). j gets the rest of the reaction: -(F + sum F_k), -(T + d x F + sum q_k x F_k). The power of
+// all wrenches is then F_side e'(0) - M tilt' + F_friction V + sum_k F_k . n_k u_k' = -(power_loss + d/dt of
+// the asperity energy) with the film's power loss counting p dh/dt of the full dh/dt above.
+// Jacobian with liner markers: the film's outputs and the N marker forces by central differences in the
+// 5 inputs, zeta and each active marker's u_k and u_k' (those whose weights touch the skirt now: 2 film
+// evaluations each), the chain rule to the marker columns analytic.
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
@@ -57,9 +79,12 @@ namespace {
 
 constexpr double kDeg = std::numbers::pi / 180;
 
-/// The five film inputs (see the top of this file).
+/// The film inputs (see the top of this file): the five of the rigid liner, and with liner markers the axial
+/// position zeta of the pin on the liner and each marker's radial displacement u_k and rate u_k'.
 struct FilmInputs {
   std::array<double, 5> u{};  // e_top, e_bottom, e_top', e_bottom', V
+  double zeta = 0;            // m
+  std::vector<double> lu, lr;  // m, m/s (empty: a rigid liner)
   bool operator==(const FilmInputs&) const = default;
   bearing::SkirtKinematics kinematics() const { return {u[0], u[1], u[2], u[3], u[4]}; }
 };
@@ -69,21 +94,78 @@ struct Outputs {
   bearing::SkirtResult film;
   double side = 0, moment = 0, friction = 0;  // N, N m, N (film + asperities, see the top)
   double power_loss = 0;                      // W
+  std::vector<double> liner_force;            // N, f_k along n_k on liner marker k
+  double slope_force = 0;                     // N, F_s (in `friction`)
+  double liner_max = 0;                       // m, largest |u| at the cells' centres
+  double uncovered = 0;                       // share of the film's lattice points beyond the liner's ends
   bool ok = false;
+};
+
+/// The liner markers' grid (axial levels x angles in j's frame at the initial state) and its bilinear
+/// weights.
+struct LinerGrid {
+  std::vector<double> z, theta;  // ascending; theta in [theta_0, theta_0 + 2 pi)
+  std::vector<int> marker;       // marker of (level a, angle b): marker[a + z.size() b]
+  std::vector<double> rho0;      // m, each marker's initial distance from the bore axis
+  int size() const { return static_cast<int>(rho0.size()); }
+  /// Up to four (marker, W, dW/dZ) at (Z, theta); `outside`: Z beyond the axial ends (held constant).
+  struct Weight {
+    int k;
+    double w, dw;
+  };
+  int weights(double Z, double th, std::array<Weight, 4>& out, bool& outside) const {
+    const int nz = static_cast<int>(z.size()), nt = static_cast<int>(theta.size());
+    int a0 = 0, a1 = 0;
+    double t = 0, dt = 0;
+    outside = false;
+    if (nz > 1) {
+      if (Z <= z.front()) {
+        a0 = 0, a1 = 1, outside = Z < z.front();
+      } else if (Z >= z.back()) {
+        a0 = nz - 2, a1 = nz - 1, t = 1, outside = Z > z.back();
+      } else {
+        a1 = static_cast<int>(std::upper_bound(z.begin(), z.end(), Z) - z.begin()), a0 = a1 - 1;
+        dt = 1 / (z[a1] - z[a0]), t = (Z - z[a0]) * dt;
+      }
+    }
+    int b0 = 0, b1 = 0;
+    double s = 0;
+    if (nt > 1) {
+      const double tw = th - 2 * std::numbers::pi * std::floor((th - theta[0]) / (2 * std::numbers::pi));
+      b1 = static_cast<int>(std::upper_bound(theta.begin(), theta.end(), tw) - theta.begin());
+      b0 = b1 - 1;
+      const double end = b1 < nt ? theta[b1] : theta[0] + 2 * std::numbers::pi;
+      if (b1 == nt) b1 = 0;
+      s = std::clamp((tw - theta[b0]) / (end - theta[b0]), 0.0, 1.0);
+    }
+    out = {Weight{marker[a0 + nz * b0], (1 - t) * (1 - s), -dt * (1 - s)},
+           Weight{marker[a1 + nz * b0], t * (1 - s), dt * (1 - s)},
+           Weight{marker[a0 + nz * b1], (1 - t) * s, -dt * s}, Weight{marker[a1 + nz * b1], t * s, dt * s}};
+    return 4;
+  }
 };
 
 class PistonLiner final : public ForceElement {
  public:
   PistonLiner(bearing::SkirtSpec spec, bearing::FiniteSolverOptions options, double mu_asperity,
-              double regularization_speed)
-      : film_(std::move(spec), options), mu_(mu_asperity), v_s_(regularization_speed) {
+              double regularization_speed, LinerGrid grid = {})
+      : film_(std::move(spec), options),
+        mu_(mu_asperity),
+        v_s_(regularization_speed),
+        grid_(std::move(grid)) {
     const auto& s = film_.spec();
     s_top_ = s.skirt_top, s_bottom_ = s.skirt_top - s.skirt_length;
+    if (grid_.size() > 0) {
+      const int lattice = (2 * s.cells_axial + 1) * (2 * s.cells_around + 1);
+      field_.lattice.assign(film_.arcs(), std::vector<double>(lattice));
+      field_.rate.assign(film_.arcs(), std::vector<double>(s.cells_axial * s.cells_around));
+    }
   }
   std::string type() const override { return "piston-liner"; }
-  int marker_count() const override { return 2; }
+  int marker_count() const override { return 2 + grid_.size(); }
 
-  FilmInputs inputs(const MarkerMotion& i, const MarkerMotion& j) const {
+  FilmInputs inputs(const ElementInput& in) const {
+    const MarkerMotion &i = in.markers[0], &j = in.markers[1];
     const Vec3 x = j.axes.col(0), z = j.axes.col(2), a = i.axes.col(2);
     const Vec3 d = i.position - j.position, dv = i.velocity - j.velocity;
     FilmInputs f;
@@ -92,6 +174,17 @@ class PistonLiner final : public ForceElement {
     for (double s : {s_top_, s_bottom_})
       f.u[k++] = x.dot(dv + s * i.angular_velocity.cross(a) - j.angular_velocity.cross(d + s * a));
     f.u[4] = z.dot(dv - j.angular_velocity.cross(d));
+    const int n = grid_.size();
+    if (n == 0) return f;
+    f.zeta = z.dot(d);
+    f.lu.resize(n), f.lr.resize(n);
+    for (int m = 0; m < n; ++m) {
+      const MarkerMotion& p = in.markers[2 + m];
+      const Vec3 q = p.position - j.position, pq = q - z * z.dot(q);
+      const double rho = pq.norm();
+      f.lu[m] = rho - grid_.rho0[m];
+      f.lr[m] = (pq / rho).dot(p.velocity - j.velocity - j.angular_velocity.cross(q));
+    }
     return f;
   }
 
@@ -107,45 +200,87 @@ class PistonLiner final : public ForceElement {
 
   void evaluate(const ElementInput& in, ElementOutput& out) const override {
     const MarkerMotion &i = in.markers[0], &j = in.markers[1];
-    const Outputs& o = outputs(inputs(i, j));
+    const Outputs& o = outputs(inputs(in));
     const Vec3 x = j.axes.col(0), z = j.axes.col(2);
     apply_at_i(in, out, o.side * x + o.friction * z, o.moment * x.cross(i.axes.col(2)), i.position);
+    for (int m = 0; m < grid_.size();
+         ++m) {  // the liner markers: F_k = f_k n_k, the rest of the reaction on j
+      const Vec3 q = in.markers[2 + m].position - j.position, pq = q - z * z.dot(q);
+      const Vec3 force = o.liner_force[m] * pq.normalized();
+      out.wrenches[2 + m].force = force;
+      out.wrenches[1].force -= force;
+      out.wrenches[1].torque -= q.cross(force);
+    }
   }
 
   bool jacobian(const ElementInput& in, ElementJacobian& jac) const override;
 
   std::vector<Channel> channels() const override {
-    return {{"min_film", "m"},         {"max_pressure", "Pa"},
-            {"side_force", "N"},       {"pin_moment", "N m"},
-            {"friction_force", "N"},   {"power_loss", "W"},
-            {"asperity_force", "N"},   {"oil_flow", "m^3/s"},
-            {"eccentricity_top", "m"}, {"eccentricity_bottom", "m"},
-            {"sliding_speed", "m/s"},  {"asperity_energy", "J"}};
+    std::vector<Channel> c = {{"min_film", "m"},         {"max_pressure", "Pa"},
+                              {"side_force", "N"},       {"pin_moment", "N m"},
+                              {"friction_force", "N"},   {"power_loss", "W"},
+                              {"asperity_force", "N"},   {"oil_flow", "m^3/s"},
+                              {"eccentricity_top", "m"}, {"eccentricity_bottom", "m"},
+                              {"sliding_speed", "m/s"},  {"asperity_energy", "J"}};
+    if (grid_.size() > 0)
+      c.insert(c.end(), {{"liner_displacement", "m"}, {"liner_force", "N"}, {"liner_uncovered", "1"}});
+    return c;
   }
   void channel_values(const ElementInput& in, std::span<double> v) const override {
-    const FilmInputs f = inputs(in.markers[0], in.markers[1]);
+    const FilmInputs f = inputs(in);
     const Outputs& o = outputs(f);
     const bearing::SkirtResult& r = o.film;
-    const double values[] = {r.min_film, r.max_pressure, o.side,          o.moment,
-                             o.friction, o.power_loss,   r.asperity_load, r.flow_bottom + r.flow_top,
-                             f.u[0],     f.u[1],         f.u[4],          r.asperity_energy};
+    double total = 0;
+    for (double fk : o.liner_force) total += fk;
+    const double values[] = {r.min_film,  r.max_pressure, o.side,          o.moment,
+                             o.friction,  o.power_loss,   r.asperity_load, r.flow_bottom + r.flow_top,
+                             f.u[0],      f.u[1],         f.u[4],          r.asperity_energy,
+                             o.liner_max, total,          o.uncovered};
     for (std::size_t k = 0; k < v.size() && k < std::size(values); ++k) v[k] = values[k];
   }
   /// Stored: the asperities' elastic energy; dissipated: power_loss (see the top).
   ElementEnergy energy(const ElementInput& in) const override {
-    const Outputs& o = outputs(inputs(in.markers[0], in.markers[1]));
+    const Outputs& o = outputs(inputs(in));
     return {o.film.asperity_energy, o.power_loss};
   }
 
  private:
+  /// The liner field of the film (LinerField) for these inputs: u on each arc's lattice, the liner's squeeze
+  /// rate at the centres; the share of lattice points beyond the liner's axial ends.
+  double fill_field(const FilmInputs& f) const {
+    const auto& s = film_.spec();
+    const int nx = s.cells_axial, nz = s.cells_around;
+    const double dy = s.skirt_length / nx, V = f.u[4];
+    std::array<LinerGrid::Weight, 4> w;
+    int outside_count = 0, points = 0;
+    for (int a = 0; a < film_.arcs(); ++a) {
+      const double start = film_.angle(a, 0) - 0.5 * (film_.angle(a, 1) - film_.angle(a, 0));
+      const double dth = film_.angle(a, 1) - film_.angle(a, 0);
+      for (int k2 = 0; k2 <= 2 * nz; ++k2)
+        for (int i2 = 0; i2 <= 2 * nx; ++i2) {
+          bool outside = false;
+          grid_.weights(f.zeta + s_bottom_ + 0.5 * i2 * dy, start + 0.5 * k2 * dth, w, outside);
+          double u = 0, slope = 0, rate = 0;
+          for (const auto& e : w) u += e.w * f.lu[e.k], slope += e.dw * f.lu[e.k], rate += e.w * f.lr[e.k];
+          field_.lattice[a][i2 + (2 * nx + 1) * k2] = u;
+          if (i2 % 2 && k2 % 2) field_.rate[a][i2 / 2 + nx * (k2 / 2)] = rate + V * slope;  // eq. at the top
+          outside_count += outside, ++points;
+        }
+    }
+    return double(outside_count) / points;
+  }
+
   Outputs compute(const FilmInputs& f) const {
     Outputs o;
+    const bool ehl = grid_.size() > 0;
     try {
-      o.film = film_.evaluate(f.kinematics());
+      if (ehl) o.uncovered = fill_field(f);
+      o.film = film_.evaluate(f.kinematics(), ehl ? &field_ : nullptr);
     } catch (const Error&) {
       film_.reset();
       const double nan = std::numeric_limits<double>::quiet_NaN();
       o.side = o.moment = o.friction = o.power_loss = nan;
+      o.liner_force.assign(grid_.size(), nan);
       return o;
     }
     const bearing::SkirtResult& r = o.film;
@@ -157,13 +292,60 @@ class PistonLiner final : public ForceElement {
     o.friction = r.friction_force - mu_ * t * r.asperity_load;
     o.power_loss =
         r.power_loss + mu_ * t * r.asperity_load * f.u[4] + (r.shear_moment + m_friction) * tilt_rate;
+    if (ehl) {  // the cells' pressures back to the liner markers, the slope's axial force on the piston
+      const auto& s = film_.spec();
+      const int nx = s.cells_axial, nz = s.cells_around;
+      o.liner_force.assign(grid_.size(), 0.0);
+      std::array<LinerGrid::Weight, 4> w;
+      for (int a = 0; a < film_.arcs(); ++a) {
+        const double dA = R * (film_.angle(a, 1) - film_.angle(a, 0)) * L / nx;
+        const std::vector<double>& p = film_.cell_pressure(a);
+        for (int kz = 0; kz < nz; ++kz)
+          for (int i = 0; i < nx; ++i) {
+            bool outside = false;
+            grid_.weights(f.zeta + film_.axial_position(i), film_.angle(a, kz), w, outside);
+            const double load = p[i + nx * kz] * dA;
+            double slope = 0;
+            for (const auto& e : w) o.liner_force[e.k] += e.w * load, slope += e.dw * f.lu[e.k];
+            o.slope_force += load * slope;
+            o.liner_max =
+                std::max(o.liner_max, std::abs(field_.lattice[a][2 * i + 1 + (2 * nx + 1) * (2 * kz + 1)]));
+          }
+      }
+      o.friction += o.slope_force;
+    }
     o.ok = true;
     return o;
+  }
+
+  /// The liner markers whose weights reach the film's lattice at this zeta (a superset: whole cells of the
+  /// grid).
+  std::vector<int> active(const FilmInputs& f) const {
+    std::vector<char> on(grid_.size(), 0);
+    const auto& s = film_.spec();
+    const int nx = s.cells_axial, nz = s.cells_around;
+    const double dy = s.skirt_length / nx;
+    std::array<LinerGrid::Weight, 4> w;
+    for (int a = 0; a < film_.arcs(); ++a) {
+      const double dth = film_.angle(a, 1) - film_.angle(a, 0), start = film_.angle(a, 0) - 0.5 * dth;
+      for (int k2 = 0; k2 <= 2 * nz; ++k2)
+        for (int i2 = 0; i2 <= 2 * nx; ++i2) {
+          bool outside = false;
+          grid_.weights(f.zeta + s_bottom_ + 0.5 * i2 * dy, start + 0.5 * k2 * dth, w, outside);
+          for (const auto& e : w) on[e.k] = 1;
+        }
+    }
+    std::vector<int> list;
+    for (int k = 0; k < grid_.size(); ++k)
+      if (on[k]) list.push_back(k);
+    return list;
   }
 
   mutable bearing::SkirtFilm film_;  // mutable: its warm-start state
   double mu_ = 0, v_s_ = 0.01;
   double s_top_ = 0, s_bottom_ = 0;
+  LinerGrid grid_;
+  mutable bearing::LinerField field_;  // scratch of compute()
   struct Entry {
     std::optional<FilmInputs> inputs;
     Outputs out;
@@ -174,45 +356,65 @@ class PistonLiner final : public ForceElement {
 
 bool PistonLiner::jacobian(const ElementInput& in, ElementJacobian& jac) const {
   const MarkerMotion &mi = in.markers[0], &mj = in.markers[1];
-  const FilmInputs f0 = inputs(mi, mj);
+  const FilmInputs f0 = inputs(in);
   const Outputs o0 = outputs(f0);
   if (!o0.ok) return false;
   const double c = film_.spec().radial_clearance, R = film_.spec().bore_radius;
-  // g: d(F_side, M, F_friction) / d(e_top, e_bottom, e_top', e_bottom', V). The film's part (pressures,
-  // shear, asperity load and side force) by central differences; the asperity friction composed here.
-  Eigen::Matrix<double, 3, 5> g;
-  const double rate_scale = std::max({std::abs(f0.u[2]), std::abs(f0.u[3]), 1e-3 * std::abs(f0.u[4]), 1e-6});
+  const int n = grid_.size();
+  const std::vector<int> act = n > 0 ? active(f0) : std::vector<int>{};
+  const int na = static_cast<int>(act.size()), inputs_count = n > 0 ? 6 + 2 * na : 5;
+  // g: d(F_side, M, F_friction, f_1 .. f_N) / d(e_top, e_bottom, e_top', e_bottom', V [, zeta, u_k, u_k' of
+  // the active markers]). The film's part (pressures, shear, asperity load and side force) by central
+  // differences; the asperity friction composed here.
+  Eigen::MatrixXd g = Eigen::MatrixXd::Zero(3 + n, inputs_count);
+  double rate_scale = std::max({std::abs(f0.u[2]), std::abs(f0.u[3]), 1e-3 * std::abs(f0.u[4]), 1e-6});
+  for (int k : act) rate_scale = std::max(rate_scale, std::abs(f0.lr[k]));
   const double t0 = std::tanh(f0.u[4] / v_s_);
-  for (int col = 0; col < 5; ++col) {
-    const double step = col < 2   ? 1e-6 * c
-                        : col < 4 ? 1e-6 * rate_scale
-                                  : 1e-6 * std::max(std::abs(f0.u[4]), 1e-3);
-    std::array<bearing::SkirtResult, 2> r;
-    std::array<double, 2> h{};
+  for (int col = 0; col < inputs_count; ++col) {
+    double* value = nullptr;
+    double step = 0;
+    std::array<FilmInputs, 2> f = {f0, f0};
+    std::array<double*, 2> at{};
     for (int side = 0; side < 2; ++side) {
-      FilmInputs f = f0;
-      f.u[col] += side == 0 ? step : -step;
-      h[side] = f.u[col] - f0.u[col];
-      const Outputs& o = outputs(f);
-      if (!o.ok) return false;
-      r[side] = o.film;
+      FilmInputs& fs = f[side];
+      if (col < 5) {
+        value = &fs.u[col];
+        step = col < 2 ? 1e-6 * c : col < 4 ? 1e-6 * rate_scale : 1e-6 * std::max(std::abs(f0.u[4]), 1e-3);
+      } else if (col == 5) {
+        value = &fs.zeta, step = 1e-7 * film_.spec().skirt_length;
+      } else if (col < 6 + na) {
+        value = &fs.lu[act[col - 6]], step = 1e-6 * c;
+      } else {
+        value = &fs.lr[act[col - 6 - na]], step = 1e-6 * rate_scale;
+      }
+      at[side] = value;
+      *value += side == 0 ? step : -step;
     }
-    const double span = h[0] - h[1];
-    auto diff = [&](auto member) { return (r[0].*member - r[1].*member) / span; };
-    using bearing::SkirtResult;
-    g(0, col) = diff(&SkirtResult::side_force);
-    g(1, col) = diff(&SkirtResult::moment) + mu_ * t0 * R * diff(&SkirtResult::asperity_side_force);
-    g(2, col) = diff(&SkirtResult::friction_force) - mu_ * t0 * diff(&SkirtResult::asperity_load);
+    const double span = (*at[0] - *at[1]);
+    std::array<Eigen::VectorXd, 2> y;
+    for (int side = 0; side < 2; ++side) {
+      const Outputs& o = outputs(f[side]);
+      if (!o.ok) return false;
+      const bearing::SkirtResult& r = o.film;
+      y[side].resize(3 + n);
+      y[side][0] = r.side_force;
+      y[side][1] = r.moment + mu_ * t0 * R * r.asperity_side_force;
+      y[side][2] = r.friction_force - mu_ * t0 * r.asperity_load + o.slope_force;
+      for (int k = 0; k < n; ++k) y[side][3 + k] = o.liner_force[k];
+    }
+    g.col(col) = (y[0] - y[1]) / span;
   }
   const double dt_dv = (1 - t0 * t0) / v_s_;
   g(1, 4) += mu_ * dt_dv * R * o0.film.asperity_side_force;
   g(2, 4) -= mu_ * dt_dv * o0.film.asperity_load;
 
-  // K: d(film inputs) / d(marker columns) [dp_i, dth_i, dv_i, dw_i, dp_j, dth_j, dv_j, dw_j] (3 each).
+  // K: d(film inputs) / d(marker columns); i and j: [dp_i, dth_i, dv_i, dw_i, dp_j, dth_j, dv_j, dw_j], then
+  // 12 per liner marker (3 each).
+  const int cols = 12 * (2 + n);
   const Vec3 x = mj.axes.col(0), z = mj.axes.col(2), a = mi.axes.col(2);
   const Vec3 d = mi.position - mj.position, dv = mi.velocity - mj.velocity;
   const Vec3 &wi = mi.angular_velocity, &wj = mj.angular_velocity, w = wi - wj;
-  Eigen::Matrix<double, 5, 24> kin = Eigen::Matrix<double, 5, 24>::Zero();
+  Eigen::MatrixXd kin = Eigen::MatrixXd::Zero(inputs_count, cols);
   auto put = [&](int row, int col, const Vec3& v) { kin.block<1, 3>(row, col) += v.transpose(); };
   int row = 0;
   for (double s : {s_top_, s_bottom_}) {  // e(s) = x . (d + s a)
@@ -232,19 +434,67 @@ bool PistonLiner::jacobian(const ElementInput& in, ElementJacobian& jac) const {
     put(4, 0, -z.cross(wj)), put(4, 12, z.cross(wj)), put(4, 15, z.cross(gv));
     put(4, 6, z), put(4, 18, -z), put(4, 21, z.cross(d));
   }
-  const Eigen::Matrix<double, 3, 24> dout = g * kin;  // d(F_side, M, F_friction) / d(columns)
+  // the liner markers' normals n_k and their derivatives dn_k / d(p_k, p_j, th_j) (F_k = f_k n_k)
+  std::vector<Vec3> normal(n);
+  std::vector<Mat3> dn_dq(n), dn_dth(n);
+  for (int k = 0; k < n; ++k) {
+    const Vec3 q = in.markers[2 + k].position - mj.position, pq = q - z * z.dot(q);
+    const double rho = pq.norm();
+    const Vec3 nk = pq / rho;
+    normal[k] = nk;
+    const Mat3 proj = Mat3::Identity() - nk * nk.transpose();
+    dn_dq[k] = (proj - z * z.transpose()) / rho;                                 // dn / dq
+    dn_dth[k] = (z.dot(q) * proj * skew(z) - z * z.cross(q).transpose()) / rho;  // dn / dth_j
+  }
+  if (n > 0) {
+    put(5, 0, z), put(5, 12, -z), put(5, 15, z.cross(d));  // zeta = z . d
+    for (int m = 0; m < na; ++m) {
+      const int k = act[m], ck = 12 * (2 + k);
+      const MarkerMotion& p = in.markers[2 + k];
+      const Vec3 q = p.position - mj.position, nk = normal[k];
+      // u_k = |P q| - rho_0: du/dq = n^T, du/dth_j = (z . q) (n x z)^T
+      put(6 + m, ck, nk), put(6 + m, 12, -nk), put(6 + m, 15, z.dot(q) * nk.cross(z));
+      // u_k' = n . gk, gk = v_k - v_j - w_j x q
+      const Vec3 gk = p.velocity - mj.velocity - wj.cross(q);
+      const int r = 6 + na + m;
+      // d(n . gk)/dq = gk^T dn/dq - n^T w_j~ (dn/dq symmetric)
+      const Eigen::RowVector3d dq = (dn_dq[k] * gk).transpose() - nk.transpose() * skew(wj);
+      kin.block<1, 3>(r, ck) += dq;
+      kin.block<1, 3>(r, 12) -= dq;
+      kin.block<1, 3>(r, 15) += gk.transpose() * dn_dth[k];
+      put(r, ck + 6, nk), put(r, 18, -nk), put(r, 21, nk.cross(q));
+    }
+  }
+  const Eigen::MatrixXd dout = g * kin;  // d(F_side, M, F_friction, f_k) / d(columns)
 
   const Vec3 force = o0.side * x + o0.friction * z;
   const Vec3 axis = x.cross(a);
-  ElementRows df = zero_rows(jac), dt = zero_rows(jac);
-  df.leftCols<24>() = x * dout.row(0) + z * dout.row(2);
+  Eigen::MatrixXd df = x * dout.row(0) + z * dout.row(2), dt = axis * dout.row(1);
   df.block<3, 3>(0, 15) -= skew(force);  // the force turns with the liner's axes
-  dt.leftCols<24>() = axis * dout.row(1);
   // d(x_j x z_i): dth_j: (dth x x) x a = x (a . dth) - (a . x) dth; dth_i: x x (dth x a) = (x . a) dth - a (x
   // . dth)
   dt.block<3, 3>(0, 15) += o0.moment * (x * a.transpose() - a.dot(x) * Mat3::Identity());
   dt.block<3, 3>(0, 3) += o0.moment * (x.dot(a) * Mat3::Identity() - a * x.transpose());
   jacobian_at_i(in, jac, df, dt, force);
+  // The liner markers (as point-set-contact): rows of k dF_k; rows of j -dF_k and -q~ dF_k + F_k~ (dp_k -
+  // dp_j)
+  auto& mat = jac.matrix;
+  for (int k = 0; k < n; ++k) {
+    const int ck = 12 * (2 + k), rk = 6 * (2 + k);
+    const Vec3 q = in.markers[2 + k].position - mj.position;
+    const double fk = o0.liner_force[k];
+    if (fk == 0 && dout.row(3 + k).isZero(0)) continue;
+    Eigen::MatrixXd dfk = normal[k] * dout.row(3 + k);
+    dfk.block<3, 3>(0, ck) += fk * dn_dq[k];
+    dfk.block<3, 3>(0, 12) -= fk * dn_dq[k];
+    dfk.block<3, 3>(0, 15) += fk * dn_dth[k];
+    mat.block(rk, 0, 3, cols) += dfk;
+    mat.block(6, 0, 3, cols) -= dfk;
+    mat.block(9, 0, 3, cols).noalias() -= skew(q) * dfk;
+    const Mat3 fx = skew(fk * normal[k]);
+    mat.block<3, 3>(9, ck) += fx;
+    mat.block<3, 3>(9, 12) -= fx;
+  }
   outputs(f0);  // leave the film's warm start at this state
   return true;
 }
@@ -321,6 +571,56 @@ bearing::SkirtSpec read_skirt(const input::Table& t) {
   return s;
 }
 
+/// The liner markers' grid from their initial positions in j's frame (see the top): axial levels and angles
+/// clustered within 1e-6 R and 1e-6 rad; every (level, angle) exactly once. Errors name the key `liner`.
+LinerGrid liner_grid(const input::Table& t, const ElementContext& c, double R) {
+  const MarkerMotion& j = c.initial[1];
+  const Vec3 x = j.axes.col(0), z = j.axes.col(2), w = x.cross(z);
+  const int n = static_cast<int>(c.initial.size()) - 2;
+  std::vector<double> zs(n), ths(n);
+  LinerGrid g;
+  g.rho0.resize(n);
+  for (int k = 0; k < n; ++k) {
+    if (c.marker_bodies[2 + k] == c.marker_bodies[0])
+      t.fail("liner", "liner marker " + std::to_string(k + 1) + " is on the piston's body '" +
+                          c.marker_bodies[0] + "'");
+    const Vec3 q = c.initial[2 + k].position - j.position;
+    zs[k] = z.dot(q), ths[k] = std::atan2(w.dot(q), x.dot(q));
+    g.rho0[k] = std::hypot(x.dot(q), w.dot(q));
+    if (!(g.rho0[k] > 0.5 * R && g.rho0[k] < 2 * R))
+      t.fail("liner", "liner marker " + std::to_string(k + 1) + " is " + std::to_string(g.rho0[k]) +
+                          " m from the bore axis of marker j: expected between R / 2 and 2 R (R = " +
+                          std::to_string(R) + " m), on the liner's surface or wall");
+  }
+  auto levels = [](std::vector<double> v, double tol) {
+    std::sort(v.begin(), v.end());
+    std::vector<double> out;
+    for (double e : v)
+      if (out.empty() || e - out.back() > tol) out.push_back(e);
+    return out;
+  };
+  const double ztol = 1e-6 * R, ttol = 1e-6;
+  g.z = levels(zs, ztol), g.theta = levels(ths, ttol);
+  const int nz = static_cast<int>(g.z.size()), nt = static_cast<int>(g.theta.size());
+  if (nz * nt != n)
+    t.fail("liner", "the " + std::to_string(n) +
+                        " liner markers must form a grid of axial levels x angles in j's "
+                        "frame: found " +
+                        std::to_string(nz) + " levels and " + std::to_string(nt) + " angles");
+  g.marker.assign(n, -1);
+  auto find = [](const std::vector<double>& v, double e, double tol) {
+    return static_cast<int>(std::lower_bound(v.begin(), v.end(), e - tol) - v.begin());
+  };
+  for (int k = 0; k < n; ++k) {
+    int& slot = g.marker[find(g.z, zs[k], ztol) + nz * find(g.theta, ths[k], ttol)];
+    if (slot >= 0)
+      t.fail("liner", "liner markers " + std::to_string(slot + 1) + " and " + std::to_string(k + 1) +
+                          " are at the same axial level and angle");
+    slot = k;
+  }
+  return g;
+}
+
 }  // namespace
 
 void register_piston_liner(ElementRegistry& r) {
@@ -330,8 +630,9 @@ void register_piston_liner(ElementRegistry& r) {
          "asperity "
          "contact; i the piston (pin axis origin, z_i towards the crown), j the liner (bore axis origin, z_j "
          "the "
-         "bore axis, x_j the thrust direction); docs/bearing.md section 15",
-         {"i", "j"},
+         "bore axis, x_j the thrust direction); docs/bearing.md section 15; optional `liner`: markers on the "
+         "liner's surface, a grid of axial levels x angles (elasto-hydrodynamic, section 17)",
+         {"i", "j", "liner[]?"},
          [](ElementContext& c) -> std::unique_ptr<ForceElement> {
            const auto& t = c.table;
            bearing::SkirtSpec spec = read_skirt(t);
@@ -340,7 +641,13 @@ void register_piston_liner(ElementRegistry& r) {
                t.number_or("friction_regularization_speed", 0.01, input::Range::closed(1e-6, 10.0));
            bearing::FiniteSolverOptions options;
            options.tolerance = t.number_or("film_tolerance", 1e-10, input::Range::closed(1e-14, 1e-4));
-           return std::make_unique<PistonLiner>(std::move(spec), options, mu, vs);
+           const auto& bodies = c.marker_bodies;  // i, j, then the liner markers
+           if (bodies.size() > 2 &&
+               bodies[0] == bodies[1])  // (the scene reader leaves this to a list element)
+             t.fail("j", "markers i and j are on the same body: a force element connects two bodies");
+           LinerGrid grid;
+           if (bodies.size() > 2) grid = liner_grid(t, c, spec.bore_radius);
+           return std::make_unique<PistonLiner>(std::move(spec), options, mu, vs, std::move(grid));
          }});
 }
 
