@@ -1,5 +1,7 @@
 // Work-precision of solve's integrators: error against a reference run (IDA at rtol 1e-11) versus CPU time,
-// for IDA over tolerances and generalized-alpha over steps, on one scene. Prints a table and writes CSV.
+// for IDA over tolerances, generalized-alpha over steps and the body-wise split (Gauss-Seidel exchange with
+// the coupling correction, its groups' IDA at rtol 1e-6) over macro steps, on one scene. Prints a table and
+// writes CSV.
 //
 //   bench_solve_work_precision SCENE SIGNAL COLUMN OUT.csv [REFERENCE_RTOL [FINEST_RTOL [events-off]]]
 // With `events-off` both sweeps run again without contact events ([integrator] events = false), as methods
@@ -125,6 +127,17 @@ int main(int argc, char** argv) {
       s.adaptive = true;
       s.events = events;
       report("generalized-alpha" + suffix, step, run(scene, s, signal, column));
+    }
+    for (double macro : {1e-3, 5e-4, 2e-4, 1e-4, 5e-5}) {
+      IntegratorSettings s = base.integrator;
+      s.method = "split";
+      s.macro_step = macro;
+      s.exchange = "gauss-seidel";
+      s.coupling_correction = true;
+      s.rtol = 1e-6;
+      s.atol = 1e-8;
+      s.events = events;
+      report("split" + suffix, macro, run(scene, s, signal, column));
     }
   }
   return 0;
