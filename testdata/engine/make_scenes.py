@@ -350,7 +350,7 @@ cycle_deg = 720{end}
 {integrator}
 
 [output]
-sample_rate_hz = 24000             # 1 sample per crank degree at 2000 rpm, Nyquist 12 kHz
+sample_rate_hz = 24000             # 2 samples per crank degree (0.5 deg) at 2000 rpm, Nyquist 12 kHz
 markers = {markers}
 """)
 
