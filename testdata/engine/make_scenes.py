@@ -10,6 +10,11 @@ The scenes are committed; rerun this after changing a parameter here and commit 
                               liners; gas forces 1-3-4-2 on the pistons and, reversed, on the cylinder heads;
                               speed driver 2000 rpm at the flywheel
   engine_bushing_mains.toml   the same with linear spring-damper main bearings (bushings, the paper's eq. 8)
+  engine_steady.toml          engine.toml run to its periodic steady state ([steady_state]: the 4 mounts'
+                              vertical forces and main bearing 3's force, tolerance 1e-2, the last cycle kept)
+  engine_film4.toml           engine_steady.toml with piston 4 on the piston-liner film (skirt, oil and
+                              roughness of testdata/slap level b) on a rigid liner at the block's liner4 point;
+                              pistons 1-3 keep their prismatic joints
   engine_rigid.toml           the rigid twin: block and crankshaft as rigid bodies (their superelements' mass,
                               centre of mass and inertia), bushing main bearings - seconds per cycle; the
                               energy-balance and mount-force test (tests/engine)
