@@ -10,6 +10,11 @@ The scenes are committed; rerun this after changing a parameter here and commit 
                               liners; gas forces 1-3-4-2 on the pistons and, reversed, on the cylinder heads;
                               speed driver 2000 rpm at the flywheel
   engine_bushing_mains.toml   the same with linear spring-damper main bearings (bushings, the paper's eq. 8)
+  engine_steady.toml          engine.toml run to its periodic steady state ([steady_state]: the 4 mounts'
+                              vertical forces and main bearing 3's force, tolerance 1e-2, the last cycle kept)
+  engine_film4.toml           engine_steady.toml with piston 4 on the piston-liner film (skirt, oil and
+                              roughness of testdata/slap level b) on a rigid liner at the block's liner4 point;
+                              pistons 1-3 keep their prismatic joints
   engine_rigid.toml           the rigid twin: block and crankshaft as rigid bodies (their superelements' mass,
                               centre of mass and inertia), bushing main bearings - seconds per cycle; the
                               energy-balance and mount-force test (tests/engine)
@@ -85,17 +90,111 @@ def header(title, lines):
     return "\n".join(out) + "\n"
 
 
+# ---- the lubricated piston (piston-liner, docs/bearing.md sections 15-16): the skirt, oil and roughness of the
+# slap study's level (b), testdata/slap/make_scenes.py film(8e-6, 0.2): skirt 40 mm, top edge 12 mm above the
+# pin, radial clearance 30 um, parabolic barrel 12 um at the bottom edge with its crown 6 mm below the pin,
+# thrust and anti-thrust panels +-60 deg, 16 x 12 cells per panel, 0.007 Pa s, JFO, 8 um oil layer, fill 0.2,
+# Greenwood-Tripp sigma 1 um, sigma beta eta 0.04, sigma / beta 1e-3, E' 1.1e11 Pa, mu 0.1.
+# Thrust side: the crank turns about +x, so the crank pin moves to -y after TDC and the expansion stroke presses
+# the piston on +y: the film's x (thrust) is +y, its z the cylinder axis +z.
+SKIRT_C, SKIRT_L, SKIRT_TOP = 30e-6, 0.040, 0.012
+SKIRT_BARREL_S = [-0.028, -0.024, -0.020, -0.016, -0.012, -0.008, -0.006, -0.004, 0.0, 0.004, 0.008, 0.012]
+OIL_LAYER, OIL_FILL, OIL_VISC = 8e-6, 0.2, 0.007
+
+
+def skirt_barrel(s):
+    return 12e-6 * ((s + 0.006) / 0.022) ** 2
+
+
+def conrod_tdc_velocity(k):
+    """The conrod's velocity at TDC (crank angle 0, throws 1 and 4 up): the small end at rest, the big end at
+    the crank pin's -omega r along y, so it turns at -omega r / l about x and its centre of mass moves at
+    -omega r (l - a) / l along y. A free piston (film guidance) needs it: the start-up projection otherwise
+    gives the piston a lateral velocity (docs/bearing.md section 15.6)."""
+    assert THROW_UP[k]
+    return (f"velocity = [0, {f(-OMEGA * R * (L_ROD - ROD_A) / L_ROD)}, 0]    # TDC: small end at rest\n"
+            f"angular_velocity = [{f(-OMEGA * R / L_ROD)}, 0, 0]\n")
+
+
+def piston_film_markers():
+    return """
+  [[body.marker]]
+  name = "axis"                    # the piston axis at the pin: z to the crown, x the thrust side (+y)
+  z = [0, 0, 1]
+  x = [0, 1, 0]"""
+
+
+def skirt_film(n, block):
+    rows = ", ".join(f"[{s:g}, {skirt_barrel(s):.3g}]" for s in SKIRT_BARREL_S)
+    return f"""# The lubricated piston {n} (docs/bearing.md sections 15-16): the skirt's film and asperities between the
+# piston and a rigid liner whose frame is the block's bore{n} (the liner{n} point: the block's deformation there
+# moves the liner frame). Skirt, oil and roughness of testdata/slap level (b) (slap_film.toml).
+[[force]]
+name = "skirt{n}"
+type = "piston-liner"
+i = "piston{n}.axis"
+j = "{block}.bore{n}"
+bore_radius = {f(BORE / 2)}
+radial_clearance = {SKIRT_C:g}
+skirt_length = {SKIRT_L:g}
+skirt_top = {SKIRT_TOP:g}
+arcs_deg = [[-60, 60], [120, 240]]
+barrel = [{rows}]
+viscosity = {OIL_VISC:g}
+cavitation = "jfo"
+oil_layer = {OIL_LAYER:g}
+fill_bottom = {OIL_FILL:g}
+fill_top = {OIL_FILL:g}
+cells_axial = 16
+cells_around = 12
+sigma = 1e-6                 # composite roughness (m)
+sigma_beta_eta = 0.04        # Greenwood-Tripp: K = 2.40e-4
+sigma_over_beta = 1e-3
+modulus = 1.1e11             # composite modulus E' (Pa)
+mu_asperity = 0.1
+"""
+
+
+# ---- periodic steady state (scene-format.md section 9): the 4 mounts' vertical forces and main bearing 3's
+STEADY_CHANNELS = ["forces/mount1_z/force", "forces/mount2_z/force", "forces/mount3_z/force",
+                   "forces/mount4_z/force", "forces/main3/force"]
+STEADY_TOL, STEADY_MAX = 1e-2, 60
+
+
+def steady_block(tol=STEADY_TOL, max_cycles=STEADY_MAX, keep=1):
+    ch = ", ".join(f'"{c}"' for c in STEADY_CHANNELS)
+    return f"""
+[steady_state]                     # cycles until the watched channels repeat (scene-format.md section 9)
+channels = [{ch}]
+tolerance = {tol:g}
+max_cycles = {max_cycles}
+keep_cycles = {keep}
+cycle_deg = 720
+"""
+
+
 def pin_z(k):
     return R if THROW_UP[k] else -R
 
 
-def crank_train(lines, block, crank_pin, head_at, liner_of):
+def crank_train(lines, block, crank_pin, head_at, liner_of, film=()):
     """Conrods, pistons, their joints, and the gas loads. crank_pin(k) names the crank pin marker (z along x),
-    head_at(k) the block's marker for the head reaction (or None), liner_of(k) the block's guide marker."""
+    head_at(k) the block's marker for the head reaction (or None), liner_of(k) the block's guide marker.
+    film: the cylinders (0-based) whose piston the piston-liner film guides instead of the prismatic joint
+    (their bore marker is the block's `bore<n>`, see skirt_film)."""
     for k in range(4):
         n = k + 1
         zb = pin_z(k)
         zs = zb + math.sqrt(L_ROD**2 - 0.0)  # the conrod stands vertical at TDC and BDC
+        if k in film:
+            guide = skirt_film(n, block)
+        else:
+            guide = f"""[[joint]]
+name = "guide{n}"                  # the simpler piston guidance: a prismatic joint to the liner
+type = "prismatic"
+i = "piston{n}.slide"
+j = "{liner_of(k)}"
+"""
         lines.append(f"""
 # ---- cylinder {n}: conrod and piston ({'TDC' if THROW_UP[k] else 'BDC'} at crank angle 0)
 [[body]]
@@ -104,7 +203,7 @@ type = "rigid"
 mass = {f(ROD_M)}                        # conrod.toml
 inertia = {vec(ROD_I)}   # x: m a (l - a), the 2-point-mass equivalent
 position = [{f(CYL_X[k])}, 0, {f(zb + ROD_A)}]    # centre of mass, {ROD_A * 1e3:.1f} mm above the big end
-  [[body.marker]]
+{conrod_tdc_velocity(k) if k in film else ""}  [[body.marker]]
   name = "big_end"
   at = [0, 0, {f(-ROD_A)}]
   z = [1, 0, 0]
@@ -131,7 +230,7 @@ position = [{f(CYL_X[k])}, 0, {f(zs)}]       # centre of mass taken on the pin a
   x = [1, 0, 0]
   [[body.marker]]
   name = "crown"
-  at = [0, 0, {f(COMPRESSION_H)}]
+  at = [0, 0, {f(COMPRESSION_H)}]{piston_film_markers() if k in film else ""}
 
 [[joint]]
 name = "big_end{n}"
@@ -145,12 +244,7 @@ type = "revolute"
 i = "piston{n}.pin"
 j = "conrod{n}.small_end"
 
-[[joint]]
-name = "guide{n}"                  # the simpler piston guidance: a prismatic joint to the liner
-type = "prismatic"
-i = "piston{n}.slide"
-j = "{liner_of(k)}"
-
+{guide}
 [[load]]
 name = "gas{n}"                    # (p - 1 bar) x bore area on the crown, fires at {FIRING_OFFSET[k]} deg
 type = "force"
@@ -240,7 +334,9 @@ type = "ground"
     lines.append(extra)
 
 
-def tail(lines, end_cycles, integrator, markers):
+def tail(lines, end_cycles, integrator, markers, steady=None):
+    """end_cycles: a fixed number of cycles; steady: a [steady_state] block instead (end_cycles ignored)."""
+    end = "" if steady else f"\nend_cycles = {end_cycles}"
     lines.append(f"""
 [[driver]]
 name = "speed"                     # the dynamometer holds {RPM:.0f} rpm at the flywheel
@@ -253,14 +349,13 @@ rpm = {RPM:.0f}
 i = "crank.fly"
 j = "ground.dyno"
 zero_deg = 0
-cycle_deg = 720
-end_cycles = {end_cycles}
-
+cycle_deg = 720{end}
+{steady or ""}
 [integrator]
 {integrator}
 
 [output]
-sample_rate_hz = 24000             # 1 sample per crank degree at 2000 rpm, Nyquist 12 kHz
+sample_rate_hz = 24000             # 2 samples per crank degree (0.5 deg) at 2000 rpm, Nyquist 12 kHz
 markers = {markers}
 """)
 
@@ -315,7 +410,8 @@ damping = [0, 0, {f(THRUST_D)}, 0, 0, 0]
 CRANK_Q = [math.sqrt(0.5), math.sqrt(0.5), 0, 0]    # crank y (throw 1) -> global z, crank z -> -y
 
 
-def flexible_scene(name, title, mains, lines_doc, integrator, block_modes, crank_modes):
+def flexible_scene(name, title, mains, lines_doc, integrator, block_modes, crank_modes, steady=None, film=(),
+                   end_cycles=3, outdir=HERE):
     lines = [header(title, lines_doc)]
     lines.append('[scene]\nname = "' + name + '"\ngravity = [0, 0, 0]\n')
     ground(lines)
@@ -336,6 +432,12 @@ position = [0, 0, 0]
   point = "main{b + 1}"
   z = [1, 0, 0]
   x = [0, 0, 1]""")
+    for k in film:
+        lines.append(f"""  [[body.marker]]
+  name = "bore{k + 1}"                 # the liner frame of the piston-liner film: z the cylinder axis, x thrust
+  point = "liner{k + 1}"
+  z = [0, 0, 1]
+  x = [0, 1, 0]""")
     lines.append(f"""
 # ---- the crankshaft with pulley and flywheel: flexible beam, Craig-Bampton (../crankshaft.toml, whose
 # frame has main1 at its origin and throw 1 along its y): placed with main1 at x = {CRANK_ORIGIN_X} m and
@@ -369,11 +471,12 @@ angular_velocity = [{f(OMEGA)}, 0, 0]""")
     mounts(lines, "block", maxwell=True)
     main_bearings(lines, mains, "crank", "block")
     crank_train(lines, "block", lambda k: f"crank.crankpin{k + 1}", lambda k: f"block.head{k + 1}",
-                lambda k: f"block.liner{k + 1}")
-    tail(lines, 3, integrator, '["block.jacket4_thrust", "block.oilpan_flange", "block.deck", "block.skirt", '
-         '"block.mount1", "block.mount2", "block.mount3", "block.mount4", "block.liner4", "crank.pulley", '
-         '"crank.fly"]')
-    (HERE / f"{name}.toml").write_text("".join(l if l.endswith("\n") else l + "\n" for l in lines))
+                lambda k: f"block.liner{k + 1}", film)
+    markers = ["block.jacket4_thrust", "block.oilpan_flange", "block.deck", "block.skirt", "block.mount1",
+               "block.mount2", "block.mount3", "block.mount4", "block.liner4", "crank.pulley", "crank.fly"]
+    markers += [f"piston{k + 1}.pin" for k in film]
+    tail(lines, end_cycles, integrator, "[" + ", ".join(f'"{m}"' for m in markers) + "]", steady)
+    (Path(outdir) / f"{name}.toml").write_text("".join(l if l.endswith("\n") else l + "\n" for l in lines))
 
 
 def rigid_scene():
@@ -556,6 +659,23 @@ CRANK_MODE_F = [136.112, 153.096, 324.267, 388.356, 444.977, 445.16, 784.165, 83
                 1327.3, 1670.42, 1749.8, 1951.47, 1967.3, 2354.79, 2446.1, 2465.31, 2490.97, 3012.91]
 
 INTEGRATOR = 'method = "ida"\nrtol = 1e-5\natol = 1e-8\nmax_step = 2e-5'
+# the lubricated piston: velocity_atol keeps IDA from chasing the nanometre ringing of the piston's lateral and
+# tilt velocities on the stiff squeeze film (docs/bearing.md section 15.6)
+INTEGRATOR_FILM = INTEGRATOR + '\nvelocity_atol = 1e-5'
+BASELINE_DOC = ["Baseline of the engine scene family (docs/engine.md): the flexible block on 4 mounts (one with",
+                "a Maxwell hydro element), the flexible crankshaft with pulley and flywheel on 5 short journal",
+                "bearings and a thrust bearing, 4 rigid conrods and pistons on revolute big and small ends,",
+                "pistons guided by prismatic joints to the liners (the simpler guidance; the lubricated",
+                "piston-liner element is for cylinder 4 later), gas forces on pistons and heads, speed driver.",
+                "Superelements made beside this file's copy by `make -f Makefile.workflow engine`:",
+                "block.h5 (condense block.toml, ~3 min, ~2-4 GB) and crankshaft.h5 (condense ../crankshaft.toml)."]
+STEADY_DOC = ["engine.toml run to its periodic steady state ([steady_state]: the 4 mounts' vertical forces and main",
+              "bearing 3's force repeat from one 720 deg cycle to the next within an estimated distance of 1e-2;",
+              "the last cycle is the result); everything else identical (docs/engine.md)."]
+FILM4_DOC = ["engine_steady.toml with piston 4 guided by the piston-liner element (the skirt film with asperity",
+             "contact on a rigid liner whose frame is the block's liner4 point, block.bore4) instead of its",
+             "prismatic joint; skirt, oil and roughness of testdata/slap level (b); pistons 1-3 keep their",
+             "prismatic joints. Run to the periodic steady state (docs/engine.md)."]
 
 if __name__ == "__main__":
     flexible_scene("engine", "The engine: a 2.0 l four-cylinder in-line gasoline engine at 2000 rpm, full load", "short",
@@ -571,5 +691,9 @@ if __name__ == "__main__":
                    ["engine.toml with the 5 journal bearings replaced by linear spring-dampers (bushings, the",
                     "paper's eq. 8); everything else identical (docs/engine.md)."],
                    INTEGRATOR, 45, 20)
+    flexible_scene("engine_steady", "The engine at its periodic steady state", "short", STEADY_DOC,
+                   INTEGRATOR, 45, 20, steady=steady_block())
+    flexible_scene("engine_film4", "The engine at its periodic steady state, cylinder 4's piston lubricated",
+                   "short", FILM4_DOC, INTEGRATOR_FILM, 45, 20, steady=steady_block(), film=(3,))
     rigid_scene()
     throws_scene()
