@@ -181,8 +181,13 @@ void SteadyStateMonitor::replay(const h5::Group& root, long rows, const Logger& 
   }
 }
 
+// A sample within kBoundary of the cycle (1e-6 of it: 7e-4 deg of 720) counts as on the boundary: a crank
+// angle from the integration lands a little off the exact multiple, and the kept cycle must then start at
+// that sample, not at the next one (postproc's orders need the whole cycle).
+constexpr double kBoundary = 1e-6;
+
 bool SteadyStateMonitor::add_values(double x, long row, std::span<const double> values, const Logger& log) {
-  const double rel = x - origin_, eps = 1e-9 * s_.cycle;
+  const double rel = x - origin_, eps = kBoundary * s_.cycle;
   if (r_.cycle_first_row.empty()) {
     r_.cycle_first_row.push_back(row);
     r_.cycle_start.push_back(origin_);
@@ -201,7 +206,7 @@ bool SteadyStateMonitor::add_values(double x, long row, std::span<const double> 
 
 void SteadyStateMonitor::close_cycle(const Logger& log) {
   const int k = r_.cycles;
-  const double c0 = k * s_.cycle, c1 = (k + 1) * s_.cycle, eps = 1e-9 * s_.cycle;
+  const double c0 = k * s_.cycle, c1 = (k + 1) * s_.cycle, eps = kBoundary * s_.cycle;
   const auto in_cycle =
       std::count_if(xs_.begin(), xs_.end(), [&](double x) { return x >= c0 - eps && x < c1 - eps; });
   const std::string unit = s_.by_angle ? " deg" : " s";
@@ -256,12 +261,18 @@ void SteadyStateMonitor::close_cycle(const Logger& log) {
   } else {
     // The estimated distance to the periodic solution (steady_state.hpp): change q / (1 - q), q the
     // channel's last ratio of changes held to [0.5, 0.95].
+    // A channel whose change grew in one of the last two cycles no longer decays geometrically: it sits at
+    // its noise floor (the integrator's tolerance, a chaotic contact), where the series has nothing left to
+    // sum, and its distance is its change.
     std::vector<double> distance(change.size());
     for (std::size_t c = 0; c < change.size(); ++c) {
       double q = 0.95;
       if (!changes_.empty()) {
         const double before = changes_.back()[c];
         q = before > 0 ? std::clamp(change[c] / before, 0.5, 0.95) : (change[c] > 0 ? 0.95 : 0.5);
+        const std::size_t m = changes_.size();
+        const bool grew = change[c] > before || (m >= 2 && changes_[m - 1][c] > changes_[m - 2][c]);
+        if (grew && m >= 2) q = 0.5;
       }
       distance[c] = change[c] * q / (1 - q);
     }
