@@ -308,6 +308,7 @@ struct SymmetricShiftInvert {
   using Scalar = double;
   const ShiftInvertOperator& op;
   const Eigen::MatrixXd* deflate = nullptr;
+  mutable Eigen::VectorXd projected_{};  // scratch of the deflated product
   Eigen::Index rows() const { return op.rows(); }
   Eigen::Index cols() const { return op.cols(); }
   void perform_op(const double* x_in, double* y_out) const {
@@ -316,8 +317,8 @@ struct SymmetricShiftInvert {
       return;
     }
     const Eigen::Map<const Eigen::VectorXd> x(x_in, rows());
-    const Eigen::VectorXd projected = x - *deflate * (deflate->transpose() * x);
-    op.perform_symmetric_op(projected.data(), y_out);
+    projected_.noalias() = x - *deflate * (deflate->transpose() * x);  // no allocation after the first
+    op.perform_symmetric_op(projected_.data(), y_out);
     Eigen::Map<Eigen::VectorXd> y(y_out, rows());
     y -= *deflate * (deflate->transpose() * y);
   }

@@ -8,6 +8,7 @@
 
 #include "common/error.hpp"
 #include "common/hdf5.hpp"
+#include "common/xml.hpp"
 
 namespace nvh::condense {
 
@@ -51,29 +52,6 @@ void write_int_matrix(h5::Group& group, const std::string& name,
       H5Dclose(set.release()) < 0) {
     throw Error("cannot write the dataset " + group.path() + "/" + name);
   }
-}
-
-std::string xml_escape(const std::string& text) {
-  std::string out;
-  for (char c : text) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
 }
 
 }  // namespace

@@ -8,6 +8,8 @@
 #include <utility>
 #include <vector>
 
+#include "common/xml.hpp"
+
 namespace nvh::postproc {
 
 /// An HDF5 dataset of float64 values, (rows) or (rows, columns).
@@ -36,7 +38,7 @@ struct XdmfSurfaceSeries {
 /// The XML text.
 std::string xdmf_text(const XdmfSurfaceSeries& series);
 
-/// `text` with &, <, >, " and ' escaped for XML.
-std::string xml_escape(const std::string& text);
+/// `text` with &, <, >, " and ' escaped for XML (common/xml.hpp).
+using nvh::xml_escape;
 
 }  // namespace nvh::postproc

@@ -46,6 +46,7 @@
 #include "solve/cam/support_function.hpp"
 #include "solve/element_registry.hpp"
 #include "solve/elements/builtin.hpp"
+#include "solve/elements/cam_contact_keys.hpp"
 #include "solve/elements/contact_law.hpp"
 #include "solve/elements/hertz_line.hpp"
 
@@ -231,7 +232,6 @@ void register_flat_face_cam(ElementRegistry& r) {
          "reference_speed, mu_static, mu_dynamic, stribeck_speed, regularization_speed",
          {"i", "j"},
          [](ElementContext& c) -> std::unique_ptr<ForceElement> {
-           using input::Range;
            const auto& t = c.table;
            auto profile = cam::read_cam_profile(t, c.base, c.input_files);  // with its undercut check
            try {
@@ -240,17 +240,7 @@ void register_flat_face_cam(ElementRegistry& r) {
              t.fail("profile", e.message());
            }
            Parameters p;
-           p.width = t.number("face_width", Range{0.0, bounds::kLength, true, false});
-           const Range modulus = Range{0.0, 1e15, true, false};
-           const Range poisson = Range::closed(0.0, 0.5);
-           const double ef = t.number_or("follower_modulus", hertz::kSteelModulus, modulus);
-           const double nf = t.number_or("follower_poisson", hertz::kSteelPoisson, poisson);
-           const double ec = t.number_or("cam_modulus", hertz::kSteelModulus, modulus);
-           const double nc = t.number_or("cam_poisson", hertz::kSteelPoisson, poisson);
-           p.e_star = hertz::contact_modulus(ef, nf, ec, nc);
-           p.stiffness = t.number_or("stiffness", 0.0, Range::closed(0.0, bounds::kCoefficient));
-           p.restitution = t.number_or("restitution", 1.0, Range::open(0.0, 1.0 + 1e-12));
-           p.reference_speed = t.number_or("reference_speed", 1.0, Range::closed(1e-9, bounds::kSpeed));
+           read_cam_contact(t, "face_width", "follower", p);
            contact::Parameters friction;
            contact::read_friction(t, friction);
            return std::make_unique<FlatFaceCam>(std::move(profile), p, friction);

@@ -65,6 +65,7 @@
 #include "solve/cam/cam_profile.hpp"
 #include "solve/element_registry.hpp"
 #include "solve/elements/builtin.hpp"
+#include "solve/elements/cam_contact_keys.hpp"
 #include "solve/elements/contact_law.hpp"
 #include "solve/elements/hertz_line.hpp"
 #include "solve/elements/hertz_point.hpp"
@@ -412,17 +413,7 @@ void register_roller_cam(ElementRegistry& r) {
            const auto& t = c.table;
            auto profile = cam::read_cam_profile(t, c.base, c.input_files);  // with its undercut check
            Parameters p;
-           p.width = t.number("roller_width", Range{0.0, bounds::kLength, true, false});
-           const Range modulus = Range{0.0, 1e15, true, false};
-           const Range poisson = Range::closed(0.0, 0.5);
-           const double er = t.number_or("roller_modulus", hertz::kSteelModulus, modulus);
-           const double nr = t.number_or("roller_poisson", hertz::kSteelPoisson, poisson);
-           const double ec = t.number_or("cam_modulus", hertz::kSteelModulus, modulus);
-           const double nc = t.number_or("cam_poisson", hertz::kSteelPoisson, poisson);
-           p.e_star = hertz::contact_modulus(er, nr, ec, nc);
-           p.stiffness = t.number_or("stiffness", 0.0, Range::closed(0.0, bounds::kCoefficient));
-           p.restitution = t.number_or("restitution", 1.0, Range::open(0.0, 1.0 + 1e-12));
-           p.reference_speed = t.number_or("reference_speed", 1.0, Range::closed(1e-9, bounds::kSpeed));
+           read_cam_contact(t, "roller_width", "roller", p);
            p.crown_radius = t.number_or("crown_radius", 0.0, Range::closed(0.0, bounds::kLength));
            if (p.crown_radius > 0 && p.stiffness > 0)
              t.fail("crown_radius",

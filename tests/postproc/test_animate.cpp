@@ -25,11 +25,13 @@
 #include "common/hdf5.hpp"
 #include "common/provenance.hpp"
 #include "common/superelement.hpp"
+#include "tests/postproc/synthetic_superelement.hpp"
 #include "postproc/analyses/animate.hpp"
 
 namespace fs = std::filesystem;
 using namespace nvh;
 using namespace nvh::postproc;
+using nvh::testing::superelement_with;
 
 namespace {
 
@@ -130,32 +132,6 @@ SurfaceExport curved_surface() {
     }
   for (int i = 0; i < nodes * 3 * kSeModes; ++i) s.shape.push_back(std::sin(0.37 * i + 0.2) * 1e-2);
   return s;
-}
-
-SuperelementFile superelement_with(const SurfaceExport& surface, int modes) {
-  SuperelementFile se;
-  se.name = "synthetic-surface";
-  se.kind = "volume";
-  se.method = "modal";
-  se.orthonormalized = true;
-  se.frequency_hz = Eigen::VectorXd::LinSpaced(modes, 100.0, 100.0 * modes);
-  for (int j = 0; j < modes; ++j) se.coordinates.push_back("mode " + std::to_string(j + 1));
-  se.mass = Eigen::MatrixXd::Identity(modes, modes);
-  se.stiffness = Eigen::MatrixXd::Identity(modes, modes);
-  se.damping = Eigen::MatrixXd::Zero(modes, modes);
-  se.surface = surface;
-  se.inertia.mass = 1.0;
-  se.inertia.center_of_mass.setZero();
-  se.inertia.inertia.setIdentity();
-  se.inertia.inertia_origin.setIdentity();
-  se.inertia.second_moment.setIdentity();
-  se.invariants.translational = Eigen::MatrixXd::Zero(3, modes);
-  se.invariants.rotational = Eigen::MatrixXd::Zero(3, modes);
-  for (int kl = 0; kl < 9; ++kl) {
-    se.invariants.position.push_back(Eigen::VectorXd::Zero(modes));
-    se.invariants.quadratic.push_back(Eigen::MatrixXd::Zero(modes, modes));
-  }
-  return se;
 }
 
 /// What solve writes for a flexible body (docs/results-format.md), with arbitrary smooth histories.

@@ -25,6 +25,7 @@
 #include "common/hdf5.hpp"
 #include "common/provenance.hpp"
 #include "common/superelement.hpp"
+#include "tests/postproc/synthetic_superelement.hpp"
 #include "postproc/analyses/erp.hpp"
 #include "postproc/spectrum.hpp"
 #include "postproc/surface_radiation.hpp"
@@ -32,38 +33,11 @@
 namespace fs = std::filesystem;
 using namespace nvh;
 using namespace nvh::postproc;
+using nvh::testing::superelement_with;
 
 namespace {
 
 constexpr double kPi = std::numbers::pi;
-
-/// A superelement with `modes` coordinates and the given surface; the other fields are placeholders of the
-/// right shapes (the analysis reads only the surface and the coordinate count).
-SuperelementFile superelement_with(const SurfaceExport& surface, int modes) {
-  SuperelementFile se;
-  se.name = "synthetic-surface";
-  se.kind = "volume";
-  se.method = "modal";
-  se.orthonormalized = true;
-  se.frequency_hz = Eigen::VectorXd::LinSpaced(modes, 100.0, 100.0 * modes);
-  for (int j = 0; j < modes; ++j) se.coordinates.push_back("mode " + std::to_string(j + 1));
-  se.mass = Eigen::MatrixXd::Identity(modes, modes);
-  se.stiffness = Eigen::MatrixXd::Identity(modes, modes);
-  se.damping = Eigen::MatrixXd::Zero(modes, modes);
-  se.surface = surface;
-  se.inertia.mass = 1.0;
-  se.inertia.center_of_mass.setZero();
-  se.inertia.inertia.setIdentity();
-  se.inertia.inertia_origin.setIdentity();
-  se.inertia.second_moment.setIdentity();
-  se.invariants.translational = Eigen::MatrixXd::Zero(3, modes);
-  se.invariants.rotational = Eigen::MatrixXd::Zero(3, modes);
-  for (int kl = 0; kl < 9; ++kl) {
-    se.invariants.position.push_back(Eigen::VectorXd::Zero(modes));
-    se.invariants.quadratic.push_back(Eigen::MatrixXd::Zero(modes, modes));
-  }
-  return se;
-}
 
 /// A results file as solve writes it: /time, root sample_rate_hz, /bodies/<body>/modal_velocities.
 void write_results(const fs::path& path, const std::string& body, const Eigen::MatrixXd& eta_dot, double fs) {
