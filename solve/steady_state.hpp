@@ -16,7 +16,9 @@
 //
 //   distance_c = change_c q / (1 - q)          (>= change_c, at most 19 change_c)
 //
-// is what the tolerance bounds. The run has converged when every distance is below the tolerance; it stops
+// is what the tolerance bounds. A channel whose change grew in one of its last two cycles no longer decays
+// geometrically - it sits at its noise floor (the integrator's tolerance, a chaotic contact, a component
+// incommensurate with the cycle) - and its distance is its change (q = 0.5). The run has converged when every distance is below the tolerance; it stops
 // then, or after max_cycles cycles with a warning.
 #include <filesystem>
 #include <memory>
