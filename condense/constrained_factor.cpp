@@ -23,16 +23,18 @@ bool ConstrainedFactor::factorize(const SparseMatrix& a) {
   n_ = a.rows();
   if (!factor_.factorize(a)) return false;
   if (!constrained()) return true;
-  // Y = L^-1 P C^T = U R (Householder QR, thin): S = C A^-1 C^T = Y^T Y = R^T R.
+  // Y = L^-1 P C^T = U R (Householder QR in place, thin): S = C A^-1 C^T = Y^T Y = R^T R. Y (n x m) and U
+  // are the only dense n x m arrays alive at once.
   const Eigen::Index m = constraints_.rows();
-  const Eigen::MatrixXd y = factor_.forward(Eigen::MatrixXd(constraints_.transpose()));
-  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(y);
-  u_ = qr.householderQ() * Eigen::MatrixXd::Identity(n_, m);
+  Eigen::MatrixXd y = factor_.forward(Eigen::MatrixXd(constraints_.transpose()));
+  const Eigen::VectorXd column_norms = y.colwise().norm().transpose();
+  const Eigen::HouseholderQR<Eigen::Ref<Eigen::MatrixXd>> qr(y);
   r_ = qr.matrixQR().topRows(m).triangularView<Eigen::Upper>();
+  u_ = qr.householderQ() * Eigen::MatrixXd::Identity(n_, m);
   // A row of C that is (nearly) a combination of the others leaves S singular: |R_jj| is the part of
   // column j of Y outside the span of the columns before it.
   for (Eigen::Index j = 0; j < m; ++j) {
-    if (!(std::abs(r_(j, j)) > 1e-10 * y.col(j).norm())) {
+    if (!(std::abs(r_(j, j)) > 1e-10 * column_norms(j))) {
       throw Error("the linear constraints (distributing couplings) are linearly dependent: constraint row " +
                   std::to_string(j + 1) + " of " + std::to_string(m) +
                   " repeats the others (two couplings on the same surface, or a surface held by supports?)");

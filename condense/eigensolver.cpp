@@ -759,7 +759,8 @@ EigenResult solve_eigenproblem(SparseMatrix&& K, SparseMatrix&& M, const EigenRe
   if (request.stiffness_factor && request.stiffness_factor->constrained()) {
     const SparseMatrix& c = request.stiffness_factor->constraints();
     if (c.cols() != n) throw Error("internal: the constraints of the given factor do not match K");
-    const Eigen::HouseholderQR<Eigen::MatrixXd> qr{Eigen::MatrixXd(c.transpose())};
+    Eigen::MatrixXd ct = c.transpose();  // factored in place: one more n x m array only
+    const Eigen::HouseholderQR<Eigen::Ref<Eigen::MatrixXd>> qr(ct);
     pencil.constraint_range = qr.householderQ() * Eigen::MatrixXd::Identity(n, c.rows());
   }
   double absolute_gap = 1e-10 * pencil.k_norm1 / max_mass;
