@@ -22,6 +22,7 @@
 #include "condense/eigensolver.hpp"
 
 #include <Spectra/SymEigsSolver.h>
+#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <Eigen/QR>
 #include <arpack.hpp>
@@ -147,9 +148,17 @@ struct Pencil {
   double sigma_a = 0.0;  ///< rad^2/s^2
   SparseMatrix m;        ///< lower triangle of M
   double k_norm1 = 0.0;  ///< ||K||_1, kept from before K was dropped
-  /// Constrained problems (C x = 0, a given ConstrainedFactor): an orthonormal basis of the range of
-  /// C^T (n x m), in which K x - lambda M x = -C^T mu may lie; empty otherwise.
-  Eigen::MatrixXd constraint_range;
+  /// Constrained problems (C x = 0, a given ConstrainedFactor): C (m x n, sparse) and the Cholesky
+  /// factor of C C^T, for the projection onto the null space of C; none otherwise.
+  const SparseMatrix* constraints = nullptr;
+  Eigen::LLT<Eigen::MatrixXd> constraint_gram;
+
+  /// r - C^T (C C^T)^-1 C r: the part of r outside the range of C^T, where K x - lambda M x = -C^T mu
+  /// of a constrained eigenpair lies.
+  Eigen::VectorXd outside_constraint_range(const Eigen::VectorXd& r) const {
+    if (!constraints) return r;
+    return r - constraints->transpose() * constraint_gram.solve(*constraints * r);
+  }
 
   Eigen::Index rows() const { return m.rows(); }
   Eigen::MatrixXd mass_times(const Eigen::Ref<const Eigen::MatrixXd>& x) const {
@@ -501,9 +510,9 @@ RawModes solve_dense(const Pencil& pencil) {
   Eigen::MatrixXd k = pencil.dense_stiffness();
   Eigen::MatrixXd m = pencil.dense_mass();
   Eigen::MatrixXd null_space;
-  if (const Eigen::Index c = pencil.constraint_range.cols(); c > 0) {
-    const Eigen::Index n = pencil.rows();
-    const Eigen::HouseholderQR<Eigen::MatrixXd> qr(pencil.constraint_range);
+  if (pencil.constraints) {
+    const Eigen::Index n = pencil.rows(), c = pencil.constraints->rows();
+    const Eigen::HouseholderQR<Eigen::MatrixXd> qr{Eigen::MatrixXd(pencil.constraints->transpose())};
     null_space = (qr.householderQ() * Eigen::MatrixXd::Identity(n, n)).rightCols(n - c);
     k = null_space.transpose() * k * null_space;
     m = null_space.transpose() * m * null_space;
@@ -564,8 +573,7 @@ Eigen::VectorXd relative_residuals(const Pencil& pencil, const RawModes& modes) 
       const double lambda = modes.values[first + j];
       Eigen::VectorXd r = kx.col(j) - lambda * mx.col(j);
       // With constraints the residual's part C^T mu is the constraint force, not an error.
-      if (pencil.constraint_range.cols() > 0)
-        r -= pencil.constraint_range * (pencil.constraint_range.transpose() * r);
+      r = pencil.outside_constraint_range(r);
       residuals[first + j] =
           r.norm() / (kx.col(j).norm() + std::abs(lambda) * mx.col(j).norm() + floor * x.col(j).norm());
     }
@@ -759,9 +767,10 @@ EigenResult solve_eigenproblem(SparseMatrix&& K, SparseMatrix&& M, const EigenRe
   if (request.stiffness_factor && request.stiffness_factor->constrained()) {
     const SparseMatrix& c = request.stiffness_factor->constraints();
     if (c.cols() != n) throw Error("internal: the constraints of the given factor do not match K");
-    Eigen::MatrixXd ct = c.transpose();  // factored in place: one more n x m array only
-    const Eigen::HouseholderQR<Eigen::Ref<Eigen::MatrixXd>> qr(ct);
-    pencil.constraint_range = qr.householderQ() * Eigen::MatrixXd::Identity(n, c.rows());
+    pencil.constraints = &c;
+    pencil.constraint_gram.compute(Eigen::MatrixXd(c * c.transpose()));
+    if (pencil.constraint_gram.info() != Eigen::Success)
+      throw Error("internal: the constraints of the given factor are linearly dependent");
   }
   double absolute_gap = 1e-10 * pencil.k_norm1 / max_mass;
   if (!dense) {
