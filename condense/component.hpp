@@ -151,6 +151,12 @@ struct MaterialRegion {
 };
 
 /// A 3D solid component from a mesh made elsewhere (Abaqus/CalculiX .inp: C3D4, C3D10, C3D8, C3D20).
+/// How distributing (RBE3) couplings enter the model (fe_model.hpp): six surface DOF per coupling made
+/// dependent (elimination: a dense block of the factor per surface), or linear constraints C u = 0 kept
+/// beside a sparse K (multiplier: Craig-Bampton and Guyan whose interior the other interfaces and supports
+/// restrain, without band, preload or geometric stiffening). kAuto: the multiplier form where it applies.
+enum class DistributingForm { kAuto, kElimination, kMultiplier };
+
 struct VolumeGeometry {
   std::filesystem::path mesh;           ///< resolved against the component file's directory
   std::string material;                 ///< the default: every element in no region
@@ -160,6 +166,7 @@ struct VolumeGeometry {
   double size = 0.0;                    ///< geometry meshed by gmsh: element size, m (0: the geometry's own)
   /// ... or the size from the frequency range: at most 1/n of the shear wavelength at reduction.fmax.
   double elements_per_wavelength = 0.0;
+  DistributingForm rbe3_form = DistributingForm::kAuto;  ///< [volume] rbe3_form
   SourceLocation where;
 };
 

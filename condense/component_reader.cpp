@@ -289,6 +289,11 @@ void read_volume(const Table& t, Component& c) {
   if (!c.materials.count(v.material)) t.fail("material", "unknown material \"" + v.material + "\"");
   v.mass_like_calculix =
       t.optional_choice("mass_quadrature", {"exact", "stiffness"}).value_or("exact") == "stiffness";
+  const std::string form =
+      t.optional_choice("rbe3_form", {"auto", "multiplier", "elimination"}).value_or("auto");
+  v.rbe3_form = form == "multiplier"    ? DistributingForm::kMultiplier
+                : form == "elimination" ? DistributingForm::kElimination
+                                        : DistributingForm::kAuto;
   // Regions with their own material; whether the group is in the mesh and whether two regions share
   // an element is checked when the mesh is read (build_volume_model).
   std::set<std::string> groups;

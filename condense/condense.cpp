@@ -149,7 +149,7 @@ Superelement condense_component(const Component& c, EigenBackend backend, const 
              std::to_string(mesh.elements.size()) + " elements from " + c.volume.mesh.filename().string());
     if (timer) timer->lap("mesh");
   }
-  FeModel model = volume ? build_volume_model(c, mesh) : build_beam_model(c);
+  FeModel model = volume ? build_volume_model(c, mesh, c.volume.rbe3_form) : build_beam_model(c);
   // A volume's interfaces are its coupling nodes; a beam's must lie on nodes of the beam.
   const std::vector<int> interface_nodes =
       volume ? model.coupling_nodes : locate(model, c.interfaces, c.point_tolerance, "interface");
@@ -254,6 +254,12 @@ Superelement condense_component(const Component& c, EigenBackend backend, const 
     in.length_scale = model.nodes.empty() ? 1.0 : std::max(0.5 * (hi - lo).norm(), 1e-9);
   }
   collect_boundary(model, c.interfaces, interface_nodes, in.boundary_dofs, in.boundary_names);
+  in.constraints = model.constraint_matrix;
+  if (in.constraints.rows() > 0) {
+    log.info("distributing couplings: " + std::to_string(in.constraints.rows() / 6) +
+             " in multiplier form (" + std::to_string(in.constraints.rows()) +
+             " constraints C u = 0 beside a sparse K)");
+  }
 
   log.info("reduce: " + to_string(c.reduction.method) + " on " + std::to_string(model.free_dofs()) +
            " DOF (" + std::to_string(in.boundary_dofs.size()) + " interface DOF, " +

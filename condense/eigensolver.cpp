@@ -22,7 +22,9 @@
 #include "condense/eigensolver.hpp"
 
 #include <Spectra/SymEigsSolver.h>
+#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
+#include <Eigen/QR>
 #include <arpack.hpp>
 
 #include <algorithm>
@@ -146,6 +148,17 @@ struct Pencil {
   double sigma_a = 0.0;  ///< rad^2/s^2
   SparseMatrix m;        ///< lower triangle of M
   double k_norm1 = 0.0;  ///< ||K||_1, kept from before K was dropped
+  /// Constrained problems (C x = 0, a given ConstrainedFactor): C (m x n, sparse) and the Cholesky
+  /// factor of C C^T, for the projection onto the null space of C; none otherwise.
+  const SparseMatrix* constraints = nullptr;
+  Eigen::LLT<Eigen::MatrixXd> constraint_gram;
+
+  /// r - C^T (C C^T)^-1 C r: the part of r outside the range of C^T, where K x - lambda M x = -C^T mu
+  /// of a constrained eigenpair lies.
+  Eigen::VectorXd outside_constraint_range(const Eigen::VectorXd& r) const {
+    if (!constraints) return r;
+    return r - constraints->transpose() * constraint_gram.solve(*constraints * r);
+  }
 
   Eigen::Index rows() const { return m.rows(); }
   Eigen::MatrixXd mass_times(const Eigen::Ref<const Eigen::MatrixXd>& x) const {
@@ -195,11 +208,11 @@ class ShiftInvertOperator {
   using Scalar = double;
 
   ShiftInvertOperator(const Pencil& pencil, double sigma, Ordering ordering)
-      : pencil_(pencil), factor_(std::make_shared<SparseCholesky>(ordering)) {
+      : pencil_(pencil), factor_(std::make_shared<ConstrainedFactor>(ordering)) {
     factorize(sigma);
   }
   /// On a given factorization of K itself (shift 0; K positive definite).
-  ShiftInvertOperator(const Pencil& pencil, std::shared_ptr<const SparseCholesky> stiffness_factor)
+  ShiftInvertOperator(const Pencil& pencil, std::shared_ptr<const ConstrainedFactor> stiffness_factor)
       : pencil_(pencil), given_(std::move(stiffness_factor)), sigma_(0.0) {}
 
   Eigen::Index rows() const { return pencil_.rows(); }
@@ -219,7 +232,8 @@ class ShiftInvertOperator {
     factor().solve(x_in, y_out);
     count_solve();
   }
-  /// y = C x = L^-1 P M P^T L^-T x, the symmetric form of OP (see the top of the file).
+  /// y = C x = L^-1 P M P^T L^-T x, the symmetric form of OP (see the top of the file); on a factor
+  /// with constraints Q L^-1 P M P^T L^-T Q, Q the projector of constrained_factor.hpp.
   void perform_symmetric_op(const double* x_in, double* y_out) const {
     const Eigen::MatrixXd z = factor().backward(Eigen::Map<const Eigen::VectorXd>(x_in, rows()));
     const Eigen::MatrixXd mz = pencil_.mass_times(z);
@@ -248,7 +262,7 @@ class ShiftInvertOperator {
   }
 
  private:
-  const SparseCholesky& factor() const { return given_ ? *given_ : *factor_; }
+  const ConstrainedFactor& factor() const { return given_ ? *given_ : *factor_; }
   void count_solve() const {
     ++solves_;
     const int done = solves_ - run_start_;
@@ -275,8 +289,8 @@ class ShiftInvertOperator {
   }
 
   const Pencil& pencil_;
-  std::shared_ptr<SparseCholesky> factor_;       ///< own factorization of K - sigma M, or ...
-  std::shared_ptr<const SparseCholesky> given_;  ///< ... the caller's of K
+  std::shared_ptr<ConstrainedFactor> factor_;       ///< own factorization of K - sigma M, or ...
+  std::shared_ptr<const ConstrainedFactor> given_;  ///< ... the caller's of K (constrained or not)
   double sigma_ = std::numeric_limits<double>::quiet_NaN();
   mutable int solves_ = 0;
   int run_start_ = 0;
@@ -489,16 +503,29 @@ RawModes solve_arpack(ShiftInvertOperator& op, const Pencil& pencil, int nev, do
   }
 }
 
-/// All eigenpairs on dense copies (Cholesky of M, then a standard symmetric eigenproblem).
+/// All eigenpairs on dense copies (Cholesky of M, then a standard symmetric eigenproblem). With
+/// constraints C x = 0, on the null space of C: x = N z with N the orthonormal complement of the range
+/// of C^T (the last n - m columns of the Householder Q of C^T), (N^T K N) z = lambda (N^T M N) z.
 RawModes solve_dense(const Pencil& pencil) {
-  const Eigen::MatrixXd k = pencil.dense_stiffness();
-  const Eigen::MatrixXd m = pencil.dense_mass();
+  Eigen::MatrixXd k = pencil.dense_stiffness();
+  Eigen::MatrixXd m = pencil.dense_mass();
+  Eigen::MatrixXd null_space;
+  if (pencil.constraints) {
+    const Eigen::Index n = pencil.rows(), c = pencil.constraints->rows();
+    const Eigen::HouseholderQR<Eigen::MatrixXd> qr{Eigen::MatrixXd(pencil.constraints->transpose())};
+    null_space = (qr.householderQ() * Eigen::MatrixXd::Identity(n, n)).rightCols(n - c);
+    k = null_space.transpose() * k * null_space;
+    m = null_space.transpose() * m * null_space;
+    k = 0.5 * (k + k.transpose()).eval();
+    m = 0.5 * (m + m.transpose()).eval();
+  }
   if (Eigen::LLT<Eigen::MatrixXd>(m).info() != Eigen::Success) {
     throw Error("the mass matrix is not positive definite (its dense Cholesky factorization failed)");
   }
   const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> solver(
       k, m, Eigen::ComputeEigenvectors | Eigen::Ax_lBx);
   if (solver.info() != Eigen::Success) throw Error("the dense generalized eigensolver did not converge");
+  if (null_space.cols() > 0) return {solver.eigenvalues(), null_space * solver.eigenvectors()};
   return {solver.eigenvalues(), solver.eigenvectors()};
 }
 
@@ -544,8 +571,11 @@ Eigen::VectorXd relative_residuals(const Pencil& pencil, const RawModes& modes) 
     const Eigen::MatrixXd mx = pencil.mass_times(x);
     for (Eigen::Index j = 0; j < columns; ++j) {
       const double lambda = modes.values[first + j];
-      residuals[first + j] = (kx.col(j) - lambda * mx.col(j)).norm() /
-                             (kx.col(j).norm() + std::abs(lambda) * mx.col(j).norm() + floor * x.col(j).norm());
+      Eigen::VectorXd r = kx.col(j) - lambda * mx.col(j);
+      // With constraints the residual's part C^T mu is the constraint force, not an error.
+      r = pencil.outside_constraint_range(r);
+      residuals[first + j] =
+          r.norm() / (kx.col(j).norm() + std::abs(lambda) * mx.col(j).norm() + floor * x.col(j).norm());
     }
   }
   return residuals;
@@ -734,6 +764,14 @@ EigenResult solve_eigenproblem(SparseMatrix&& K, SparseMatrix&& M, const EigenRe
                                                          : automatic_shift(K, M, request);
   Pencil pencil;
   make_pencil(K, M, sigma, request.lower_triangles, pencil);
+  if (request.stiffness_factor && request.stiffness_factor->constrained()) {
+    const SparseMatrix& c = request.stiffness_factor->constraints();
+    if (c.cols() != n) throw Error("internal: the constraints of the given factor do not match K");
+    pencil.constraints = &c;
+    pencil.constraint_gram.compute(Eigen::MatrixXd(c * c.transpose()));
+    if (pencil.constraint_gram.info() != Eigen::Success)
+      throw Error("internal: the constraints of the given factor are linearly dependent");
+  }
   double absolute_gap = 1e-10 * pencil.k_norm1 / max_mass;
   if (!dense) {
     ShiftInvertOperator op = request.stiffness_factor ? ShiftInvertOperator(pencil, request.stiffness_factor)

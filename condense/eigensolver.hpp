@@ -19,6 +19,7 @@
 #include <memory>
 #include <string>
 
+#include "condense/constrained_factor.hpp"
 #include "condense/sparse_cholesky.hpp"
 
 namespace nvh::condense {
@@ -51,8 +52,11 @@ struct EigenRequest {
   EigenProgress progress;               ///< optional
   Ordering ordering = Ordering::kAuto;  ///< fill-reducing ordering of the factorization
   /// Optional: a factorization of K itself, K positive definite (a Craig-Bampton interior). Then the
-  /// shift is 0 and nothing is factorized; the caller has used it for its own solves with K.
-  std::shared_ptr<const SparseCholesky> stiffness_factor;
+  /// shift is 0 and nothing is factorized; the caller has used it for its own solves with K. If it
+  /// carries constraints C x = 0 (constrained_factor.hpp), the eigenpairs are those of K and M on the
+  /// null space of C: K x - lambda M x = -C^T mu, C x = 0 (the residual check then measures the part
+  /// of K x - lambda M x outside the range of C^T).
+  std::shared_ptr<const ConstrainedFactor> stiffness_factor;
   /// K and M hold their lower triangles only (with the diagonal), exactly symmetric by construction.
   bool lower_triangles = false;
 };

@@ -245,6 +245,16 @@ void build_transform(FeModel& model) {
   }
   model.transform.resize(n_all, n_free);
   model.transform.setFromTriplets(tt.begin(), tt.end());
+  // Constraint rows on the free DOF (their DOF are masters; a held DOF is 0 and drops out).
+  std::vector<Eigen::Triplet<double>> ct;
+  for (std::size_t r = 0; r < model.constraint_rows.size(); ++r) {
+    for (const auto& [dof, coefficient] : model.constraint_rows[r].terms) {
+      const int col = free_index[dof];
+      if (col >= 0 && coefficient != 0.0) ct.emplace_back(static_cast<int>(r), col, coefficient);
+    }
+  }
+  model.constraint_matrix.resize(static_cast<Eigen::Index>(model.constraint_rows.size()), n_free);
+  model.constraint_matrix.setFromTriplets(ct.begin(), ct.end());
 }
 
 }  // namespace nvh::condense

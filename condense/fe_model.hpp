@@ -29,6 +29,11 @@ struct LinearConstraint {
   std::vector<std::pair<int, double>> terms;  ///< (nodal DOF, coefficient)
 };
 
+/// A linear constraint sum c_j u(dof_j) = 0 over nodal DOF, kept as a row of C (multiplier form).
+struct ConstraintRow {
+  std::vector<std::pair<int, double>> terms;  ///< (nodal DOF, coefficient)
+};
+
 /// A beam element as the geometric stiffness needs it: its nodes, local axes (rows) and section data.
 struct BeamElementRecord {
   int node1 = 0, node2 = 0;
@@ -71,6 +76,11 @@ struct FeModel {
   /// Dependent DOF given by linear constraints (distributing couplings); each refers to DOF of master
   /// nodes that are neither dependent nor slaves.
   std::vector<LinearConstraint> constraints;
+  /// Distributing couplings in multiplier form: rows of C u = 0 over nodal DOF (the point's DOF and its
+  /// surface's translations, which all stay free), and C on the free DOF (m x n_free, from
+  /// build_transform; held DOF drop out). Empty in elimination form.
+  std::vector<ConstraintRow> constraint_rows;
+  SparseMatrix constraint_matrix;
   Surface surface;                   ///< volume models: the outer surface (node indices are model nodes)
   std::vector<std::int64_t> labels;  ///< volume models: the mesh's node labels (first nodes)
 
@@ -112,7 +122,8 @@ inline void release(SparseMatrix& a) {
 void apply_supports(FeModel& model, const std::vector<Support>& supports, double tolerance);
 
 /// Build `model.transform` from master_of, supported_dof and inactive_dof: the free DOF are the
-/// active, unsupported DOF of master nodes; a slave follows its master, u_s = u_m + theta_m x r.
+/// active, unsupported DOF of master nodes; a slave follows its master, u_s = u_m + theta_m x r. Also
+/// `model.constraint_matrix` from `constraint_rows`.
 void build_transform(FeModel& model);
 
 }  // namespace nvh::condense

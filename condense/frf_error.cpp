@@ -52,7 +52,7 @@ std::vector<double> frf_sample_frequencies(double band_hz, const Eigen::VectorXd
 
 DeflatedShiftedSolver::DeflatedShiftedSolver(const SparseMatrix& a, const SparseMatrix& b, bool lower,
                                              const Eigen::MatrixXd& phi, const Eigen::VectorXd& lambda,
-                                             double bound, const SparseCholesky& preconditioner)
+                                             double bound, const ConstrainedFactor& preconditioner)
     : phi_(phi),
       lambda_(lambda),
       b_phi_(phi.cols() ? symmetric_times(b, lower, phi) : Eigen::MatrixXd(b.rows(), 0)),

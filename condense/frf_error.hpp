@@ -26,7 +26,7 @@
 #include <string>
 #include <vector>
 
-#include "condense/sparse_cholesky.hpp"
+#include "condense/constrained_factor.hpp"
 
 namespace nvh::condense {
 
@@ -63,7 +63,7 @@ std::vector<double> frf_sample_frequencies(double band_hz, const Eigen::VectorXd
 class DeflatedShiftedSolver {
  public:
   DeflatedShiftedSolver(const SparseMatrix& a, const SparseMatrix& b, bool lower, const Eigen::MatrixXd& phi,
-                        const Eigen::VectorXd& lambda, double bound, const SparseCholesky& preconditioner);
+                        const Eigen::VectorXd& lambda, double bound, const ConstrainedFactor& preconditioner);
 
   /// X for w^2 = omega2 < bound. nvh::Error if the complement is not positive definite (a mode below w
   /// missing from phi) or the iteration does not converge to `tolerance` (relative residual).
@@ -89,7 +89,7 @@ class DeflatedShiftedSolver {
   Eigen::VectorXd lambda_;
   Eigen::MatrixXd b_phi_;  ///< B Phi
   double bound_;
-  const SparseCholesky& preconditioner_;
+  const ConstrainedFactor& preconditioner_;
   int iterations_ = 0;
 };
 

@@ -126,7 +126,7 @@ FrfErrorEstimate modal_frf_error(const SparseMatrix& K, const SparseMatrix& M, c
   const double bound = deflation_bound(*deflation, deflation != &eig || s.modes <= 0);
   // Preconditioner: K - sigma M, positive definite for a free part too.
   const double sigma = -square(kTwoPi * s.band_hz / 10.0);
-  SparseCholesky preconditioner(in.ordering);
+  ConstrainedFactor preconditioner(in.ordering);
   if (!preconditioner.factorize(SparseMatrix(K - sigma * M)))
     throw Error("the error estimate could not factorize K - sigma M (M not positive definite?)");
   DeflatedShiftedSolver solver(K, M, in.lower_triangles, deflation->vectors, deflation->eigenvalues, bound,
@@ -329,7 +329,7 @@ ReducedModel modal_reduction(ReductionInput& in, const Logger& log) {
 /// comes from the reduced eigenproblem, whose basis holds the rigid motion exactly.
 FrfErrorEstimate craig_bampton_frf_error(const ReductionInput& in, const std::vector<int>& b,
                                          const std::vector<int>& i_dofs, const SparseMatrix& Kib,
-                                         std::shared_ptr<SparseCholesky> kii_factor, Eigen::MatrixXd phi,
+                                         std::shared_ptr<ConstrainedFactor> kii_factor, Eigen::MatrixXd phi,
                                          Eigen::VectorXd lambda, double bound, const ReducedModel& r) {
   const auto start = std::chrono::steady_clock::now();
   const ReductionSettings& s = in.settings;
@@ -412,20 +412,35 @@ ReducedModel craig_bampton(const ReductionInput& in, bool with_fixed_interface_m
   // Constraint modes: K_ii Psi = -K_ib, one factorization, nb right-hand sides. K_ii is positive
   // definite when the interface restrains the interior, so the fixed-interface eigen-solve runs on the
   // same factorization (shift 0): one factorization for both.
+  // With linear constraints C u = 0 (distributing couplings in multiplier form, fe_model.hpp), split
+  // C u = C_i u_i + C_b u_b: a constraint mode is the interior's least-energy motion with C_i Psi = -C_b
+  // for a unit boundary motion, [K_ii C_i^T; C_i 0] [Psi; Lambda] = [-K_ib; -C_b], and the fixed-interface
+  // modes are those of (K_ii, M_ii) on C_i u_i = 0 (Craig & Kurdila, Fundamentals of Structural
+  // Dynamics, 2nd ed. 2006, sec. 18.3 with constraints: the same definitions on the constrained space);
+  // both on one ConstrainedFactor (constrained_factor.hpp). K_ii must be positive definite on its own.
   SparseMatrix Kii = submatrix(K, i_dofs, i_dofs);
   const SparseMatrix Kib = submatrix(K, i_dofs, b);
+  const bool constrained = in.constraints.rows() > 0;
   Eigen::MatrixXd psi(ni, nb);
   FactorStats factor;
-  std::shared_ptr<SparseCholesky> chol;
+  std::shared_ptr<ConstrainedFactor> chol;
   if (ni > 0) {
-    chol = std::make_shared<SparseCholesky>(in.ordering);
+    chol = std::make_shared<ConstrainedFactor>(in.ordering);
+    std::vector<int> rows(static_cast<std::size_t>(in.constraints.rows()));
+    for (std::size_t k = 0; k < rows.size(); ++k) rows[k] = static_cast<int>(k);
+    if (constrained) chol->set_constraints(submatrix(in.constraints, rows, i_dofs));
     if (!chol->factorize(Kii)) {
       throw Error(
-          "the interior of the model is not restrained by the interface points and supports (the "
-          "stiffness with the interface DOF held is singular): add an interface or a support, or "
-          "check that the beam is connected");
+          std::string("the interior of the model is not restrained by the interface points and supports (the "
+                      "stiffness with the interface DOF held is singular): add an interface or a support, or "
+                      "check that the beam is connected") +
+          (constrained ? "; distributing (RBE3) couplings in multiplier form do not restrain it: "
+                         "set [volume] rbe3_form = \"elimination\""
+                       : ""));
     }
-    psi = -chol->solve(Eigen::MatrixXd(Kib));
+    psi = constrained
+              ? chol->solve(-Eigen::MatrixXd(Kib), -Eigen::MatrixXd(submatrix(in.constraints, rows, b)))
+              : Eigen::MatrixXd(-chol->solve(Eigen::MatrixXd(Kib)));
     factor = chol->stats();
   }
 
@@ -478,6 +493,9 @@ ReducedModel craig_bampton(const ReductionInput& in, bool with_fixed_interface_m
   r.stiffness = 0.5 * (r.stiffness + r.stiffness.transpose()).eval();
   r.mass = 0.5 * (r.mass + r.mass.transpose()).eval();
   if (s.band_hz > 0.0 && ni > 0) {
+    if (constrained)
+      throw Error(
+          "internal: the error estimate (band) does not handle linear constraints (rbe3_form = multiplier)");
     r.frf_error = craig_bampton_frf_error(in, b, i_dofs, Kib, chol, phi, fixed_lambda, bound, r);
   }
   log.detail(to_string(s.method) + ": " + std::to_string(nb) + " boundary DOF, " + std::to_string(nm) +
@@ -521,6 +539,8 @@ void finish_reduced(ReducedModel& r, const ReductionInput& in) {
 namespace {
 
 ReducedModel reduce_once(ReductionInput& in, const Logger& log) {
+  if (in.constraints.rows() > 0 && in.settings.method == ReductionMethod::kModal)
+    throw Error("internal: the modal reduction does not handle linear constraints (rbe3_form = multiplier)");
   switch (in.settings.method) {
     case ReductionMethod::kModal:
       return modal_reduction(in, log);

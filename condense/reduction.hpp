@@ -33,6 +33,9 @@ struct ReductionInput {
   SparseMatrix mass;
   /// K and M hold their lower triangles only (modal reduction only: Craig-Bampton needs both).
   bool lower_triangles = false;
+  /// Linear constraints C u = 0 on the free DOF (m x n; distributing couplings in multiplier form,
+  /// fe_model.hpp), or empty. Craig-Bampton and Guyan only, without the error estimate (band).
+  SparseMatrix constraints;
   std::vector<int> boundary_dofs;           ///< free-DOF indices kept physical (Craig-Bampton, Guyan)
   std::vector<std::string> boundary_names;  ///< one per boundary DOF, e.g. "main1.rx"
   int rigid_body_modes = 0;                 ///< how many zero-frequency modes the unsupported model has

@@ -46,7 +46,7 @@ Eigen::MatrixXd inertia_relief_solve(const SparseMatrix& K, const SparseMatrix& 
   keep.reserve(n);
   for (int d = 0; d < n; ++d)
     if (!held[d]) keep.push_back(d);
-  SparseCholesky chol(ordering);
+  ConstrainedFactor chol(ordering);
   if (!chol.factorize(submatrix(K, keep, keep))) {
     throw Error(
         "static solution: the stiffness with the rigid-body motion held is not positive definite (a "

@@ -12,7 +12,7 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "condense/sparse_cholesky.hpp"
+#include "condense/constrained_factor.hpp"
 
 namespace nvh::condense {
 

@@ -92,11 +92,13 @@ std::vector<std::vector<int>> add_couplings(FeModel& model, const Mesh& mesh, co
 
 /// Distributing couplings (RBE3): the point moves as the least-squares rigid fit of its surface,
 ///   [u_p; theta_p] = A u_s,  A = (G^T G)^-1 G^T,  G_i = [I, -[r_i]x],  r_i = x_i - x_p
-/// (equal weights), and adds no stiffness. So that the point's DOF stay independent coordinates (the
-/// interface DOF of Craig-Bampton), six surface DOF u_d, chosen by column-pivoted QR of A among the
-/// unsupported ones, become dependent: u_d = A_d^-1 (u_p - A_o u_o).
+/// (equal weights), and adds no stiffness. The point's DOF stay independent coordinates (the interface
+/// DOF of Craig-Bampton). Elimination form: six surface DOF u_d, chosen by column-pivoted QR of A among
+/// the unsupported ones, become dependent: u_d = A_d^-1 (u_p - A_o u_o); T^T K T then couples every
+/// node of the surface with every other. Multiplier form: all DOF stay free and the six rows
+/// [u_p; theta_p] - A u_s = 0 are kept as constraints (model.constraint_rows), K stays sparse.
 void add_distributing_constraints(FeModel& model, const std::vector<NamedPoint>& interfaces,
-                                  const std::vector<std::vector<int>>& surfaces) {
+                                  const std::vector<std::vector<int>>& surfaces, bool multiplier) {
   for (std::size_t i = 0; i < interfaces.size(); ++i) {
     if (!interfaces[i].distributing) continue;
     const int point = model.coupling_nodes[i];
@@ -127,6 +129,15 @@ void add_distributing_constraints(FeModel& model, const std::vector<NamedPoint>&
     for (std::size_t k = 0; k < candidates.size(); ++k) Ac.col(k) = A.col(candidates[k]);
     const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(Ac);
     if (qr.rank() < 6) throw held();
+    if (multiplier) {
+      for (int k = 0; k < 6; ++k) {
+        ConstraintRow row;
+        row.terms.emplace_back(6 * point + k, 1.0);
+        for (int o = 0; o < 3 * m; ++o) row.terms.emplace_back(dofs[o], -A(k, o));
+        model.constraint_rows.push_back(std::move(row));
+      }
+      continue;
+    }
     std::vector<int> dependent;
     for (int k = 0; k < 6; ++k) dependent.push_back(candidates[qr.colsPermutation().indices()(k)]);
     Eigen::Matrix<double, 6, 6> Ad;
@@ -144,6 +155,55 @@ void add_distributing_constraints(FeModel& model, const std::vector<NamedPoint>&
       model.constraints.push_back(std::move(c));
     }
   }
+}
+
+/// The form of the distributing couplings (see DistributingForm): kAuto resolved to the multiplier form
+/// where it applies - a Craig-Bampton or Guyan reduction without band, preload or geometric stiffening,
+/// whose interior the supports and the rigid couplings' points (boundary DOF) restrain, so that K_ii is
+/// positive definite without the constraints (the range-space solves of constrained_factor.hpp need it).
+/// nvh::Error at volume.rbe3_form if "multiplier" is asked for where it does not apply.
+bool multiplier_form(const Component& c, const FeModel& model, DistributingForm form) {
+  bool any = false;
+  for (const NamedPoint& p : c.interfaces) any = any || p.distributing;
+  if (!any || form == DistributingForm::kElimination) return false;
+  const ReductionSettings& r = c.reduction;
+  std::string why;
+  if (r.method == ReductionMethod::kModal)
+    why = "the modal reduction";
+  else if (r.band_hz > 0.0)
+    why = "the error estimate (reduction.band)";
+  else if (r.geometric_stiffening)
+    why = "geometric stiffening";
+  else if (!c.preloads.empty())
+    why = "preloads";
+  if (why.empty()) {
+    // Rigid-body motions that no support and no rigid coupling's point holds leave K_ii singular.
+    std::vector<int> held;
+    for (int d = 0; d < model.all_dofs(); ++d)
+      if (model.supported_dof[d]) held.push_back(d);
+    for (std::size_t i = 0; i < c.interfaces.size(); ++i)
+      if (!c.interfaces[i].distributing)
+        for (int d = 0; d < 6; ++d) held.push_back(6 * model.coupling_nodes[i] + d);
+    Eigen::Index rank = 0;
+    if (!held.empty()) {
+      const Eigen::MatrixXd field = model.rigid_body_field();
+      Eigen::MatrixXd rows(static_cast<Eigen::Index>(held.size()), 6);
+      for (std::size_t k = 0; k < held.size(); ++k)
+        rows.row(static_cast<Eigen::Index>(k)) = field.row(held[k]);
+      Eigen::JacobiSVD<Eigen::MatrixXd> svd(rows);
+      svd.setThreshold(1e-9);
+      rank = svd.rank();
+    }
+    if (rank < 6)
+      why =
+          "a component whose interior only the distributing couplings restrain (no support or rigid coupling "
+          "holds all its rigid-body motion)";
+  }
+  if (why.empty()) return true;
+  if (form == DistributingForm::kMultiplier)
+    throw Error("rbe3_form = \"multiplier\" does not work with " + why + "; use \"elimination\" or \"auto\"",
+                c.volume.where, "volume.rbe3_form");
+  return false;
 }
 
 /// Supports: a box takes every node inside (mesh nodes and interface points, see apply_supports); a node
@@ -253,11 +313,11 @@ Mesh load_volume_mesh(const Component& c) {
   return mesh;
 }
 
-FeModel build_volume_model(const Component& c) {
-  return build_volume_model(c, load_volume_mesh(c));
+FeModel build_volume_model(const Component& c, DistributingForm form) {
+  return build_volume_model(c, load_volume_mesh(c), form);
 }
 
-FeModel build_volume_model(const Component& c, const Mesh& mesh) {
+FeModel build_volume_model(const Component& c, const Mesh& mesh, DistributingForm form) {
   // Each element's own material (its region's or the default): stiffness, mass and the position and
   // component masses all follow from it, element by element.
   const std::vector<const Material*> materials = element_materials(c, mesh);
@@ -333,7 +393,7 @@ FeModel build_volume_model(const Component& c, const Mesh& mesh) {
   const std::vector<std::vector<int>> surfaces =
       add_couplings(model, mesh, used, on_surface, c.interfaces, mesh_nodes);
   apply_volume_supports(model, mesh, used, on_surface, c);
-  add_distributing_constraints(model, c.interfaces, surfaces);
+  add_distributing_constraints(model, c.interfaces, surfaces, multiplier_form(c, model, form));
   model.labels = mesh.node_ids;
   build_transform(model);
   return model;

@@ -16,9 +16,13 @@ Mesh load_volume_mesh(const Component& component);
 /// Build the model on a loaded mesh; nvh::Error naming the mesh file, line and element for inverted
 /// elements, and the component entry for selectors that take no node, unknown node sets and connection
 /// points far from their surface.
-FeModel build_volume_model(const Component& component, const Mesh& mesh);
+/// `form`: how distributing (RBE3) couplings enter (component.hpp, DistributingForm). The library's
+/// default is the elimination form; condense_component passes the component's volume.rbe3_form.
+FeModel build_volume_model(const Component& component, const Mesh& mesh,
+                           DistributingForm form = DistributingForm::kElimination);
 
 /// Both steps.
-FeModel build_volume_model(const Component& component);
+FeModel build_volume_model(const Component& component,
+                           DistributingForm form = DistributingForm::kElimination);
 
 }  // namespace nvh::condense

@@ -119,7 +119,7 @@ TEST(FrfError, DeflatedSolveEqualsDenseSolve) {
   ASSERT_GT(m, 8);
   const Eigen::MatrixXd phi = dense.eigenvectors().leftCols(m);
   const Eigen::VectorXd lam = lambda.head(m);
-  SparseCholesky preconditioner;
+  ConstrainedFactor preconditioner;  // unconstrained: the plain factor
   const double sigma = -std::pow(2.0 * kPi * 100.0, 2);
   ASSERT_TRUE(preconditioner.factorize(SparseMatrix(K - sigma * M)));
   DeflatedShiftedSolver solver(K, M, false, phi, lam, lambda(m), preconditioner);
