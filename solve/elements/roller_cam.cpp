@@ -26,12 +26,13 @@
 //   fn dn.
 //
 // Crowned roller (`crown_radius` Rc > 0): an elliptical point contact (solve/elements/hertz_point.hpp:
-// Hertz, Johnson 1985 section 4.2, with Hamrock & Brewe's 1983 approximations) of the radii Rx (rolling
-// plane, 1/Rx = 1/Rr + 1/R_cam) and Ry = Rc (the roller's axial plane; the cam is straight across): F = K(Rx)
-// delta^1.5. K follows the cam's curvature at the foot: dK = K'(Rx) (Rx / R_cam)^2 R_p'(psi*) dpsi, the foot
-// moving by dpsi = R_p / (R_p + g) t^T dc / |P'| (the foot condition's implicit derivative). The stored
-// energy is K delta^2.5 / 2.5; its change with K (dK/dt delta^2.5 / 2.5, zero on circular arcs) is booked
-// against the dissipated power so that the balance closes.
+// Hertz's exact solution, Johnson 1985 section 4.2, eqs. 4.39-4.41, the ellipse's shape interpolated in the
+// radius ratio from exact nodes) of the radii Rx (rolling plane, 1/Rx = 1/Rr + 1/R_cam) and Ry = Rc (the
+// roller's axial plane; the cam is straight across): F = K(Rx) delta^1.5. K follows the cam's curvature at
+// the foot: dK = K'(Rx) (Rx / R_cam)^2 R_p'(psi*) dpsi, the foot moving by dpsi = R_p / (R_p + g) t^T dc /
+// |P'| (the foot condition's implicit derivative). The stored energy is K delta^2.5 / 2.5; its change with K
+// (dK/dt delta^2.5 / 2.5, zero on circular arcs) is booked against the dissipated power so that the balance
+// closes.
 //
 // Roller friction (t the tangent, z = n x t = z_j, the contact point x = p_i - Rr n; the cam surface speed
 // relative to the roller's centre along t: s = t . (v_cam(x) - v_i) = -t . vr - Rr z . omega_j):
@@ -61,6 +62,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <optional>
 
 #include "solve/cam/cam_profile.hpp"
 #include "solve/element_registry.hpp"
@@ -121,7 +123,9 @@ class RollerCam final : public ForceElement {
         p_(p),
         law_(p.width, p.e_star),
         traction_(p.traction),
-        rr_(profile_->roller_radius()) {}
+        rr_(profile_->roller_radius()) {
+    if (crowned()) point_law_.emplace(p_.e_star);
+  }
   std::string type() const override { return "roller-cam"; }
   int marker_count() const override { return 2; }
   bool crowned() const { return p_.crown_radius > 0; }
@@ -174,14 +178,12 @@ class RollerCam final : public ForceElement {
   /// The relative radius in the rolling plane, 1/Rx = 1/Rr + 1/R_cam (m).
   double rolling_radius(const Contact& k) const { return hertz::relative_radius(rr_, k.pitch_radius - rr_); }
   /// K of the crowned law (N/m^1.5) and dK/dpsi.
-  double point_k(const Contact& k) const {
-    return hertz::point_stiffness(rolling_radius(k), p_.crown_radius, p_.e_star);
-  }
+  double point_k(const Contact& k) const { return point_law_->stiffness(rolling_radius(k), p_.crown_radius); }
   double point_k_rate(const Contact& k) const {
     const double r_cam = k.pitch_radius - rr_;
     if (!std::isfinite(r_cam) || !std::isfinite(k.pitch_radius_rate)) return 0.0;  // a flank: Rx = Rr
     const double rx = rolling_radius(k);
-    return hertz::point_stiffness_derivative(rx, p_.crown_radius, p_.e_star) * (rx * rx) / (r_cam * r_cam) *
+    return point_law_->stiffness_derivative(rx, p_.crown_radius) * (rx * rx) / (r_cam * r_cam) *
            k.pitch_radius_rate;
   }
   /// dpsi = foot_factor t^T dc: the foot's motion along the pitch curve.
@@ -343,8 +345,9 @@ class RollerCam final : public ForceElement {
     out[0] = fn;
     double half_length = 0;
     if (crowned()) {
-      // b along the rolling direction (half_width), a along the roller's axis (half_length)
-      const hertz::PointContact pc = hertz::point_contact(fn, r_rel, p_.crown_radius, p_.e_star);
+      // the semi-axes along the rolling direction (half_width) and along the roller's axis (half_length)
+      const hertz::PointContact pc = hertz::point_contact(fn, r_rel, p_.crown_radius, p_.e_star,
+                                                          point_law_->shape(r_rel, p_.crown_radius));
       out[1] = pc.p0;
       out[2] = pc.ax;
       half_length = pc.ay;
@@ -390,6 +393,7 @@ class RollerCam final : public ForceElement {
   std::unique_ptr<cam::CamProfile> profile_;
   Parameters p_;
   hertz::PalmgrenLine law_;
+  std::optional<hertz::PointLaw> point_law_;  // a crowned roller's law (its ellipse table), else empty
   contact::Law traction_;
   double rr_;
   double initial_spin_ = 0;
