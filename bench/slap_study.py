@@ -5,6 +5,11 @@ impact (bench/slap_impact.py's definitions), the integrator statistics of /solve
 
   /usr/bin/python3 bench/slap_study.py [--solve build/solve/solve] [--out bench-out/slap]
                                       [--grids 16x12,24x18,32x24,48x36] [--skip-grids] [--skip-alpha]
+                                      [--flexible] [--levels-only]
+
+--flexible adds level (d), slap_flexible.toml: the film on cylinder 4's liner of the flexible block. It needs
+testdata/slap/block.h5 (testdata/slap/make_flexible.py says how to make it: condense, about 1 min CPU and 3.9 GB)
+and takes a few minutes of CPU per cycle; it also prints the liner's deformation under the slap.
 
 Writes OUT/*.h5, OUT/slap_levels.png (lateral motion, tilt, minimum film or gap, side force over crank angle)
 and OUT/slap_grid.png (impact velocity against CPU). CPU: the solve process's user + system time (one
@@ -52,6 +57,19 @@ def run(solve, scene_text, name, out):
             "impact": slap_impact.impact(f)}
 
 
+def describe_liner(f):
+    """Level (d): the liner's largest radial displacement under the skirt (the element's liner_displacement) over
+    the cycle and over the slap (360 - 380 deg), and the largest radial load on the liner markers."""
+    th = f["crank_angle_deg"][:]
+    u = f["forces/skirt/liner_displacement"][:]
+    load = f["forces/skirt/liner_force"][:]
+    m = (th >= 360) & (th <= 380)
+    k = np.argmax(np.where(m, u, -1))
+    print(f"{'':34s} liner: largest |u| under the skirt {1e6 * u.max():.3f} um over the cycle, {1e6 * u[k]:.3f} um "
+          f"at {th[k]:.2f} deg in 360 - 380 deg; largest radial load on the liner markers {np.abs(load).max():.0f} N; "
+          f"uncovered share up to {f['forces/skirt/liner_uncovered'][:].max():.3f}")
+
+
 def describe(label, r):
     i, s = r["impact"], r["stats"]
     print(f"{label:34s} CPU {r['cpu']:7.2f} s/cycle (wall {r['wall']:6.2f}); impact {i['impact_deg']:7.2f} deg "
@@ -72,12 +90,12 @@ def channels(f):
     return th, xp, (xt - xb) / 0.040, film, slap_impact.side_force(f)
 
 
-def plot_levels(results, png):
+def plot_levels(levels, results, png):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     fig, ax = plt.subplots(4, 2, figsize=(12, 10), sharex="col")
-    for (label, _), r in zip(LEVELS, results):
+    for (label, _), r in zip(levels, results):
         th, xp, tilt, film, side = channels(r["h5"])
         for col, (lo, hi) in enumerate(((0, 720), (340, 420))):
             m = (th >= lo) & (th <= hi)
@@ -124,21 +142,28 @@ def main():
     ap.add_argument("--grids", default="16x12,24x18,32x24,48x36")
     ap.add_argument("--skip-grids", action="store_true")
     ap.add_argument("--skip-alpha", action="store_true")
+    ap.add_argument("--flexible", action="store_true", help="add level (d), the film on the flexible block")
+    ap.add_argument("--levels-only", action="store_true", help="only the fidelity levels")
     a = ap.parse_args()
+    levels = LEVELS + ([("d: film on the flexible block", "slap_flexible")] if a.flexible else [])
     out = pathlib.Path(a.out)
     out.mkdir(parents=True, exist_ok=True)
     print(f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores")
     print("== fidelity levels (one 720 deg cycle each)")
     results = []
-    for label, name in LEVELS:
+    for label, name in levels:
         r = run(a.solve, (SLAP / f"{name}.toml").read_text(), name, out)
         if r is None:
             return 1
         describe(label, r)
+        if name == "slap_flexible":
+            describe_liner(r["h5"])
         results.append(r)
-    plot_levels(results, out / "slap_levels.png")
+    plot_levels(levels, results, out / "slap_levels.png")
     print(f"wrote {out / 'slap_levels.png'}")
     film = (SLAP / "slap_film.toml").read_text()
+    if a.levels_only:
+        return 0
     if not a.skip_alpha:
         print("== slap_film.toml with generalized-alpha (rho_inf 0.8, adaptive)")
         for step in ("1e-5", "5e-6"):

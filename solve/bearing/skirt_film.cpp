@@ -191,7 +191,7 @@ SkirtFilm::SkirtFilm(SkirtSpec spec, FiniteSolverOptions options)
 
 // The film's coefficients for this motion (nondimensional, see the header): the exact film at each face for
 // the conductance H^3 and the Couette film, at the centres for the edges and the squeeze.
-void SkirtFilm::set_motion(const SkirtKinematics& k) {
+void SkirtFilm::set_motion(const SkirtKinematics& k, bool hold_scale) {
   const double c = spec_.radial_clearance, R = spec_.bore_radius, mu = spec_.viscosity,
                L = spec_.skirt_length;
   const double U = -0.5 * k.speed;  // mean surface speed along y in the piston's frame (the liner at -V)
@@ -200,8 +200,10 @@ void SkirtFilm::set_motion(const SkirtKinematics& k) {
     for (const auto& rate : liner_->rate)
       for (double r : rate) e_rate = std::max(e_rate, std::abs(r));
   const double p_scale = std::max(spec_.pressure_bottom, spec_.pressure_top) * c * c / (12 * mu * R * R);
-  omega_ref_ = std::max({std::abs(U) / R, e_rate / c, p_scale, 1e-9});
-  p_ref_ = 12 * mu * R * R * omega_ref_ / (c * c);
+  if (!hold_scale) {
+    omega_ref_ = std::max({std::abs(U) / R, e_rate / c, p_scale, 1e-9});
+    p_ref_ = 12 * mu * R * R * omega_ref_ / (c * c);
+  }
   const double y_bottom = y_f_[0];
   auto e_at = [&](double y) { return k.e_bottom + (k.e_top - k.e_bottom) * (y - y_bottom) / L; };
   auto e_dot_at = [&](double y) {
@@ -245,7 +247,7 @@ SkirtResult SkirtFilm::evaluate(const SkirtKinematics& k) {
   return evaluate(k, nullptr);
 }
 
-SkirtResult SkirtFilm::evaluate(const SkirtKinematics& k, const LinerField* liner) {
+void SkirtFilm::check_liner(const LinerField* liner) const {
   if (liner) {
     const std::size_t lattice = std::size_t(2 * nx_ + 1) * (2 * nz_ + 1), cells = std::size_t(nx_) * nz_;
     bool sized = liner->lattice.size() == arcs_.size() && liner->rate.size() == arcs_.size();
@@ -254,6 +256,11 @@ SkirtResult SkirtFilm::evaluate(const SkirtKinematics& k, const LinerField* line
     if (!sized)
       throw Error("skirt '" + spec_.name + "': the liner field does not match the film's arcs and grid");
   }
+}
+
+SkirtResult SkirtFilm::evaluate(const SkirtKinematics& k, const LinerField* liner) {
+  check_liner(liner);
+  linearization_.valid = false;  // the film's coefficients and solution move on
   struct Reset {  // the liner is seen during this evaluation only
     const LinerField*& at;
     ~Reset() { at = nullptr; }
@@ -321,7 +328,7 @@ SkirtResult SkirtFilm::evaluate(const SkirtKinematics& k, const LinerField* line
 // neighbours (the edge pressure half a cell beyond the end cells). Shear on the piston's surface (u = 0
 // there, -V on the liner): tau = mu (-V) / h theta_f - (h / 2) dp/dy (the Couette part carried by the fill
 // ratio, as for the journal's torque).
-SkirtResult SkirtFilm::post_process(const SkirtKinematics& k) {
+SkirtResult SkirtFilm::post_process(const SkirtKinematics& k, bool flows) {
   const double R = spec_.bore_radius, c = spec_.radial_clearance, mu = spec_.viscosity,
                L = spec_.skirt_length;
   const bool jfo = spec_.cavitation == Cavitation::kJfo;
@@ -374,6 +381,7 @@ SkirtResult SkirtFilm::post_process(const SkirtKinematics& k) {
         }
       }
     }
+    if (!flows) continue;
     arc.film.assemble(arc.P, arc.r, false, arc.fluxes);
     out.flow_bottom += arc.fluxes.west_flow;
     out.flow_top -= arc.fluxes.east_flow;
@@ -386,6 +394,57 @@ SkirtResult SkirtFilm::post_process(const SkirtKinematics& k) {
   out.side_force += out.asperity_side_force;
   out.moment += out.asperity_moment;
   return out;
+}
+
+bool SkirtFilm::linearize() {
+  Linearization& l = linearization_;
+  l.valid = false;
+  if (!has_solution_) return false;
+  const int n = static_cast<int>(arcs_.size());
+  l.P.resize(n), l.r.resize(n), l.M.resize(n);
+  for (int a = 0; a < n; ++a) {
+    Arc& arc = arcs_[a];
+    if (!arc.film.factorize_at(arc.P, arc.r)) return false;
+    l.P[a] = arc.P, l.r[a] = arc.r, l.M[a] = arc.film.last_step().M;
+  }
+  l.omega_ref = omega_ref_, l.p_ref = p_ref_;
+  l.valid = true;
+  return true;
+}
+
+SkirtResult SkirtFilm::evaluate_linearized(const SkirtKinematics& k, const LinerField* liner) {
+  Linearization& l = linearization_;
+  if (!l.valid) throw Error("skirt '" + spec_.name + "': evaluate_linearized() without linearize()");
+  check_liner(liner);
+  struct Reset {  // the liner is seen during this evaluation only; the warm start stays (P0, r0)
+    SkirtFilm& film;
+    ~Reset() {
+      film.liner_ = nullptr;
+      for (std::size_t a = 0; a < film.arcs_.size(); ++a)
+        film.arcs_[a].P = film.linearization_.P[a], film.arcs_[a].r = film.linearization_.r[a];
+    }
+  } reset{*this};
+  liner_ = liner;
+  omega_ref_ = l.omega_ref, p_ref_ = l.p_ref;
+  set_motion(k, /*hold_scale=*/true);
+  for (int a = 0; a < static_cast<int>(arcs_.size()); ++a) {
+    Arc& arc = arcs_[a];
+    arc.film.assemble(l.P[a], l.r[a], false, l.scratch);
+    const int n = arc.film.cells();
+    l.y.resize(n);
+    for (int m = 0; m < n; ++m) l.y[m] = arc.film.problem.supply[m] ? 0.0 : l.M[a][m] - l.scratch.M[m];
+    arc.film.solve_last(l.y);
+    // the eliminated unknown of each cell from its complementarity row (unchanged: ap dP + ar dr = 0)
+    const FilmAssembly& base = arc.film.last_step();
+    for (int m = 0; m < n; ++m) {
+      if (arc.film.problem.supply[m]) continue;
+      if (base.primary_is_p[m])
+        arc.P[m] = l.P[a][m] + l.y[m], arc.r[m] = l.r[a][m] - base.ap[m] / base.ar[m] * l.y[m];
+      else
+        arc.r[m] = l.r[a][m] + l.y[m], arc.P[m] = l.P[a][m] - base.ar[m] / base.ap[m] * l.y[m];
+    }
+  }
+  return post_process(k, /*flows=*/false);
 }
 
 Eigen::MatrixXd SkirtFilm::pressure(int a) const {

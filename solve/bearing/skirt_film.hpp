@@ -195,7 +195,23 @@ class SkirtFilm {
   /// Pa, the last solution's film plus asperity pressure at the cells' centres of arc a (index i + nx kz).
   const std::vector<double>& cell_pressure(int a) const { return arcs_.at(a).p_total; }
   /// Forget the previous solution: the next evaluation starts cold.
-  void reset() { has_solution_ = false; }
+  void reset() { has_solution_ = false, linearization_.valid = false; }
+
+  /// The film's linearization about the last solution (docs/bearing.md section 17.6): factorizes each arc's
+  /// reduced Newton matrix at that solution in the min form of the complementarity, so that the cavitated
+  /// set of the solution is held (a cavitated cell keeps p = 0, a full one r = 0). False without a solution
+  /// or if a matrix is singular (then take differences of evaluate()).
+  bool linearize();
+  /// The film after one Newton correction from the linearized solution (P0, r0) with the factorization of
+  /// linearize(), at the coefficients of (k, liner) and the linearization's pressure scale:
+  ///   A0 (dP, dr) = -(M(P0, r0; k, liner) - M(P0, r0; k0, liner0))        (M: the cells' mass balance)
+  /// first-order exact in the change of (k, liner) with the cavitated set held, so that central differences
+  /// of it give the derivatives of the film's outputs for the price of an assembly and a back-substitution
+  /// per input instead of a Newton solve (Newton's method's own linearization: the implicit function
+  /// theorem, dP/dq = -A0^-1 dM/dq). Leaves (P0, r0) as the warm start; cell_pressure() returns this
+  /// evaluation's pressures. The flows and the minimum film are not computed (0). Throws nvh::Error without
+  /// linearize().
+  SkirtResult evaluate_linearized(const SkirtKinematics& k, const LinerField* liner);
 
   int arcs() const { return static_cast<int>(arcs_.size()); }
   /// Pressure (Pa) of the last solution on arc a: cells_axial x cells_around, cell (i, k) centred at
@@ -219,8 +235,12 @@ class SkirtFilm {
     Eigen::VectorXd P, r;
     FilmAssembly fluxes;  // at the last solution (the flows)
   };
-  void set_motion(const SkirtKinematics& k);
-  SkirtResult post_process(const SkirtKinematics& k);
+  /// `hold_scale`: keep omega_ref and p_ref (the linearized evaluations; the dimensional solution does not
+  /// depend on them).
+  void set_motion(const SkirtKinematics& k, bool hold_scale = false);
+  /// `flows`: also the flows (one more assembly).
+  SkirtResult post_process(const SkirtKinematics& k, bool flows = true);
+  void check_liner(const LinerField* liner) const;
   const LinerField* liner_ = nullptr;  // during one evaluation: the deformable liner, or nullptr (rigid)
   /// m, the liner's displacement on arc a's lattice point (i2, k2), m/s its squeeze rate at cell m; 0 if
   /// rigid
@@ -239,6 +259,13 @@ class SkirtFilm {
   double omega_ref_ = 1, p_ref_ = 1;
   bool has_solution_ = false;
   double p_ref_of_solution_ = 1;
+  struct Linearization {  // see linearize()
+    bool valid = false;
+    std::vector<Eigen::VectorXd> P, r, M;  // per arc: the solution and its mass-balance residual
+    double omega_ref = 1, p_ref = 1;
+    FilmAssembly scratch;
+    Eigen::VectorXd y;
+  } linearization_;
 };
 
 }  // namespace nvh::bearing

@@ -59,8 +59,16 @@
 // all wrenches is then F_side e'(0) - M tilt' + F_friction V + sum_k F_k . n_k u_k' = -(power_loss + d/dt of
 // the asperity energy) with the film's power loss counting p dh/dt of the full dh/dt above.
 // Jacobian with liner markers: the film's outputs and the N marker forces by central differences in the
-// 5 inputs, zeta and each active marker's u_k and u_k' (those whose weights touch the skirt now: 2 film
-// evaluations each), the chain rule to the marker columns analytic.
+// 5 inputs, zeta and each active marker's u_k and u_k' (those whose weights touch the skirt now), the chain
+// rule to the marker columns analytic. Key `liner_jacobian`:
+//   "linearized" (default): each difference is a linearized film (SkirtFilm::evaluate_linearized): one
+//     factorization of the Reynolds system's Newton matrix at the state, reused for all columns, the
+//     cavitated set held - dP/dq = -A0^-1 dM/dq (implicit function theorem), the residual's change dM/dq
+//     by differences of one assembly; no Newton solve per column (docs/bearing.md section 17.6);
+//   "differences": each difference a full film solve (2 per column; the reference of the test);
+//   "none": the u_k, u_k' columns left out (zeta and the 5 inputs kept): a modified Newton for IDA.
+// The grid of levels x angles clusters the markers within `liner_tolerance` (m; default 1e-6 R): the
+// observation points of a meshed block snap to surface nodes, off the nominal grid by up to half an element.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -147,12 +155,16 @@ struct LinerGrid {
 
 class PistonLiner final : public ForceElement {
  public:
+  /// How the Jacobian's columns of the liner markers are found (key `liner_jacobian`, see the top).
+  enum class LinerJacobian { kLinearized, kDifferences, kNone };
   PistonLiner(bearing::SkirtSpec spec, bearing::FiniteSolverOptions options, double mu_asperity,
-              double regularization_speed, LinerGrid grid = {})
+              double regularization_speed, LinerGrid grid = {},
+              LinerJacobian liner_jacobian = LinerJacobian::kLinearized)
       : film_(std::move(spec), options),
         mu_(mu_asperity),
         v_s_(regularization_speed),
-        grid_(std::move(grid)) {
+        grid_(std::move(grid)),
+        liner_jacobian_(liner_jacobian) {
     const auto& s = film_.spec();
     s_top_ = s.skirt_top, s_bottom_ = s.skirt_top - s.skirt_length;
     if (grid_.size() > 0) {
@@ -247,35 +259,69 @@ class PistonLiner final : public ForceElement {
  private:
   /// The liner field of the film (LinerField) for these inputs: u on each arc's lattice, the liner's squeeze
   /// rate at the centres; the share of lattice points beyond the liner's axial ends.
-  double fill_field(const FilmInputs& f) const {
+  /// The interpolation weights at the film's lattice points (all arcs, in fill_field's order) and at the
+  /// cells' centres (compute's order) for the pin at zeta: recomputed when zeta changes (the Jacobian's
+  /// columns other than zeta's reuse them).
+  struct Stencil {
+    double zeta = std::numeric_limits<double>::quiet_NaN();
+    std::vector<std::array<LinerGrid::Weight, 4>> lattice, centre;
+    double uncovered = 0;  // share of the lattice points beyond the liner's axial ends
+  };
+  const Stencil& stencil(double zeta) const {
+    if (stencil_.zeta == zeta) return stencil_;
     const auto& s = film_.spec();
     const int nx = s.cells_axial, nz = s.cells_around;
-    const double dy = s.skirt_length / nx, V = f.u[4];
-    std::array<LinerGrid::Weight, 4> w;
+    const double dy = s.skirt_length / nx;
+    stencil_.lattice.resize(std::size_t(film_.arcs()) * (2 * nx + 1) * (2 * nz + 1));
+    stencil_.centre.resize(std::size_t(film_.arcs()) * nx * nz);
     int outside_count = 0, points = 0;
+    auto lw = stencil_.lattice.begin(), cw = stencil_.centre.begin();
     for (int a = 0; a < film_.arcs(); ++a) {
       const double start = film_.angle(a, 0) - 0.5 * (film_.angle(a, 1) - film_.angle(a, 0));
       const double dth = film_.angle(a, 1) - film_.angle(a, 0);
       for (int k2 = 0; k2 <= 2 * nz; ++k2)
         for (int i2 = 0; i2 <= 2 * nx; ++i2) {
           bool outside = false;
-          grid_.weights(f.zeta + s_bottom_ + 0.5 * i2 * dy, start + 0.5 * k2 * dth, w, outside);
-          double u = 0, slope = 0, rate = 0;
-          for (const auto& e : w) u += e.w * f.lu[e.k], slope += e.dw * f.lu[e.k], rate += e.w * f.lr[e.k];
-          field_.lattice[a][i2 + (2 * nx + 1) * k2] = u;
-          if (i2 % 2 && k2 % 2) field_.rate[a][i2 / 2 + nx * (k2 / 2)] = rate + V * slope;  // eq. at the top
+          grid_.weights(zeta + s_bottom_ + 0.5 * i2 * dy, start + 0.5 * k2 * dth, *lw++, outside);
           outside_count += outside, ++points;
         }
+      for (int kz = 0; kz < nz; ++kz)
+        for (int i = 0; i < nx; ++i) {
+          bool outside = false;
+          grid_.weights(zeta + film_.axial_position(i), film_.angle(a, kz), *cw++, outside);
+        }
     }
-    return double(outside_count) / points;
+    stencil_.uncovered = double(outside_count) / points;
+    stencil_.zeta = zeta;
+    return stencil_;
   }
 
-  Outputs compute(const FilmInputs& f) const {
+  double fill_field(const FilmInputs& f) const {
+    const auto& s = film_.spec();
+    const int nx = s.cells_axial, nz = s.cells_around;
+    const double V = f.u[4];
+    const Stencil& st = stencil(f.zeta);
+    auto lw = st.lattice.begin();
+    for (int a = 0; a < film_.arcs(); ++a)
+      for (int k2 = 0; k2 <= 2 * nz; ++k2)
+        for (int i2 = 0; i2 <= 2 * nx; ++i2) {
+          double u = 0, slope = 0, rate = 0;
+          for (const auto& e : *lw++)
+            u += e.w * f.lu[e.k], slope += e.dw * f.lu[e.k], rate += e.w * f.lr[e.k];
+          field_.lattice[a][i2 + (2 * nx + 1) * k2] = u;
+          if (i2 % 2 && k2 % 2) field_.rate[a][i2 / 2 + nx * (k2 / 2)] = rate + V * slope;  // eq. at the top
+        }
+    return st.uncovered;
+  }
+
+  /// `linearized`: the film's linearized evaluation about the state of film_.linearize() (the Jacobian's).
+  Outputs compute(const FilmInputs& f, bool linearized = false) const {
     Outputs o;
     const bool ehl = grid_.size() > 0;
     try {
       if (ehl) o.uncovered = fill_field(f);
-      o.film = film_.evaluate(f.kinematics(), ehl ? &field_ : nullptr);
+      o.film = linearized ? film_.evaluate_linearized(f.kinematics(), ehl ? &field_ : nullptr)
+                          : film_.evaluate(f.kinematics(), ehl ? &field_ : nullptr);
     } catch (const Error&) {
       film_.reset();
       const double nan = std::numeric_limits<double>::quiet_NaN();
@@ -296,14 +342,13 @@ class PistonLiner final : public ForceElement {
       const auto& s = film_.spec();
       const int nx = s.cells_axial, nz = s.cells_around;
       o.liner_force.assign(grid_.size(), 0.0);
-      std::array<LinerGrid::Weight, 4> w;
+      auto cw = stencil(f.zeta).centre.begin();
       for (int a = 0; a < film_.arcs(); ++a) {
         const double dA = R * (film_.angle(a, 1) - film_.angle(a, 0)) * L / nx;
         const std::vector<double>& p = film_.cell_pressure(a);
         for (int kz = 0; kz < nz; ++kz)
           for (int i = 0; i < nx; ++i) {
-            bool outside = false;
-            grid_.weights(f.zeta + film_.axial_position(i), film_.angle(a, kz), w, outside);
+            const auto& w = *cw++;
             const double load = p[i + nx * kz] * dA;
             double slope = 0;
             for (const auto& e : w) o.liner_force[e.k] += e.w * load, slope += e.dw * f.lu[e.k];
@@ -322,19 +367,8 @@ class PistonLiner final : public ForceElement {
   /// grid).
   std::vector<int> active(const FilmInputs& f) const {
     std::vector<char> on(grid_.size(), 0);
-    const auto& s = film_.spec();
-    const int nx = s.cells_axial, nz = s.cells_around;
-    const double dy = s.skirt_length / nx;
-    std::array<LinerGrid::Weight, 4> w;
-    for (int a = 0; a < film_.arcs(); ++a) {
-      const double dth = film_.angle(a, 1) - film_.angle(a, 0), start = film_.angle(a, 0) - 0.5 * dth;
-      for (int k2 = 0; k2 <= 2 * nz; ++k2)
-        for (int i2 = 0; i2 <= 2 * nx; ++i2) {
-          bool outside = false;
-          grid_.weights(f.zeta + s_bottom_ + 0.5 * i2 * dy, start + 0.5 * k2 * dth, w, outside);
-          for (const auto& e : w) on[e.k] = 1;
-        }
-    }
+    for (const auto& w : stencil(f.zeta).lattice)
+      for (const auto& e : w) on[e.k] = 1;
     std::vector<int> list;
     for (int k = 0; k < grid_.size(); ++k)
       if (on[k]) list.push_back(k);
@@ -345,12 +379,15 @@ class PistonLiner final : public ForceElement {
   double mu_ = 0, v_s_ = 0.01;
   double s_top_ = 0, s_bottom_ = 0;
   LinerGrid grid_;
+  LinerJacobian liner_jacobian_ = LinerJacobian::kLinearized;
   mutable bearing::LinerField field_;  // scratch of compute()
   struct Entry {
     std::optional<FilmInputs> inputs;
     Outputs out;
   };
   mutable Entry cache_[2];
+  mutable Outputs scratch_;  // a linearized evaluation of jacobian()
+  mutable Stencil stencil_;
   mutable int newest_ = 0;
 };
 
@@ -361,7 +398,14 @@ bool PistonLiner::jacobian(const ElementInput& in, ElementJacobian& jac) const {
   if (!o0.ok) return false;
   const double c = film_.spec().radial_clearance, R = film_.spec().bore_radius;
   const int n = grid_.size();
-  const std::vector<int> act = n > 0 ? active(f0) : std::vector<int>{};
+  const std::vector<int> act =
+      n > 0 && liner_jacobian_ != LinerJacobian::kNone ? active(f0) : std::vector<int>{};
+  // The film's linearization at f0 (a fresh solve there first: the cache may hold f0 from an older solve)
+  bool linearized = false;
+  if (n > 0 && liner_jacobian_ == LinerJacobian::kLinearized) {
+    if (!compute(f0).ok) return false;
+    linearized = film_.linearize();
+  }
   const int na = static_cast<int>(act.size()), inputs_count = n > 0 ? 6 + 2 * na : 5;
   // g: d(F_side, M, F_friction, f_1 .. f_N) / d(e_top, e_bottom, e_top', e_bottom', V [, zeta, u_k, u_k' of
   // the active markers]). The film's part (pressures, shear, asperity load and side force) by central
@@ -393,7 +437,7 @@ bool PistonLiner::jacobian(const ElementInput& in, ElementJacobian& jac) const {
     const double span = (*at[0] - *at[1]);
     std::array<Eigen::VectorXd, 2> y;
     for (int side = 0; side < 2; ++side) {
-      const Outputs& o = outputs(f[side]);
+      const Outputs& o = linearized ? (scratch_ = compute(f[side], true)) : outputs(f[side]);
       if (!o.ok) return false;
       const bearing::SkirtResult& r = o.film;
       y[side].resize(3 + n);
@@ -465,7 +509,16 @@ bool PistonLiner::jacobian(const ElementInput& in, ElementJacobian& jac) const {
       put(r, ck + 6, nk), put(r, 18, -nk), put(r, 21, nk.cross(q));
     }
   }
-  const Eigen::MatrixXd dout = g * kin;  // d(F_side, M, F_friction, f_k) / d(columns)
+  // d(F_side, M, F_friction, f_k) / d(columns) = g kin; kin's rows of the liner markers (u_k, u_k') reach
+  // only the marker's own and j's columns: summed as such (the dense product costs 3 + N times more)
+  const int first = std::min(n > 0 ? 6 : 5, inputs_count);
+  Eigen::MatrixXd dout = g.leftCols(first) * kin.topRows(first);
+  for (int r = first; r < inputs_count; ++r) {
+    const int ck = 12 * (2 + act[(r - 6) % na]);
+    for (int c0 : {12, ck})
+      for (int c = c0; c < c0 + 12; ++c)
+        if (kin(r, c) != 0) dout.col(c) += kin(r, c) * g.col(r);
+  }
 
   const Vec3 force = o0.side * x + o0.friction * z;
   const Vec3 axis = x.cross(a);
@@ -495,7 +548,7 @@ bool PistonLiner::jacobian(const ElementInput& in, ElementJacobian& jac) const {
     mat.block<3, 3>(9, ck) += fx;
     mat.block<3, 3>(9, 12) -= fx;
   }
-  outputs(f0);  // leave the film's warm start at this state
+  if (!linearized) outputs(f0);  // leave the film's warm start at this state (the linearized: left there)
   return true;
 }
 
@@ -572,7 +625,9 @@ bearing::SkirtSpec read_skirt(const input::Table& t) {
 }
 
 /// The liner markers' grid from their initial positions in j's frame (see the top): axial levels and angles
-/// clustered within 1e-6 R and 1e-6 rad; every (level, angle) exactly once. Errors name the key `liner`.
+/// clustered within `liner_tolerance` (m along the axis, that over R in rad around; default 1e-6 R), each
+/// level and angle the mean of its cluster, angles cut at their widest gap; every (level, angle) exactly
+/// once. Errors name the key `liner`.
 LinerGrid liner_grid(const input::Table& t, const ElementContext& c, double R) {
   const MarkerMotion& j = c.initial[1];
   const Vec3 x = j.axes.col(0), z = j.axes.col(2), w = x.cross(z);
@@ -592,14 +647,31 @@ LinerGrid liner_grid(const input::Table& t, const ElementContext& c, double R) {
                           " m from the bore axis of marker j: expected between R / 2 and 2 R (R = " +
                           std::to_string(R) + " m), on the liner's surface or wall");
   }
-  auto levels = [](std::vector<double> v, double tol) {
+  const double ztol = t.number_or("liner_tolerance", 1e-6 * R, input::Range::closed(0.0, 0.5 * R)),
+               ttol = ztol / R;
+  {  // angles: cut the circle in the middle of the widest gap between markers (snapped points straddle +-pi)
+    std::vector<double> v = ths;
+    std::sort(v.begin(), v.end());
+    double cut = v.back() - 2 * std::numbers::pi, gap = v.front() - cut;
+    for (std::size_t k = 1; k < v.size(); ++k)
+      if (v[k] - v[k - 1] > gap) gap = v[k] - v[k - 1], cut = v[k - 1];
+    const double from = cut + 0.5 * gap;
+    for (double& th : ths)
+      th = from +
+           std::fmod(std::fmod(th - from, 2 * std::numbers::pi) + 2 * std::numbers::pi, 2 * std::numbers::pi);
+  }
+  auto levels = [](std::vector<double> v, double tol) {  // clusters (gaps > tol between them), their means
     std::sort(v.begin(), v.end());
     std::vector<double> out;
-    for (double e : v)
-      if (out.empty() || e - out.back() > tol) out.push_back(e);
+    std::size_t first = 0;
+    for (std::size_t k = 1; k <= v.size(); ++k)
+      if (k == v.size() || v[k] - v[k - 1] > tol) {
+        double sum = 0;
+        for (std::size_t m = first; m < k; ++m) sum += v[m];
+        out.push_back(sum / double(k - first)), first = k;
+      }
     return out;
   };
-  const double ztol = 1e-6 * R, ttol = 1e-6;
   g.z = levels(zs, ztol), g.theta = levels(ths, ttol);
   const int nz = static_cast<int>(g.z.size()), nt = static_cast<int>(g.theta.size());
   if (nz * nt != n)
@@ -608,11 +680,14 @@ LinerGrid liner_grid(const input::Table& t, const ElementContext& c, double R) {
                         "frame: found " +
                         std::to_string(nz) + " levels and " + std::to_string(nt) + " angles");
   g.marker.assign(n, -1);
-  auto find = [](const std::vector<double>& v, double e, double tol) {
-    return static_cast<int>(std::lower_bound(v.begin(), v.end(), e - tol) - v.begin());
+  auto find = [](const std::vector<double>& v, double e) {  // the nearest level
+    const auto at = std::lower_bound(v.begin(), v.end(), e);
+    if (at == v.begin()) return 0;
+    if (at == v.end() || e - *(at - 1) < *at - e) return static_cast<int>(at - v.begin()) - 1;
+    return static_cast<int>(at - v.begin());
   };
   for (int k = 0; k < n; ++k) {
-    int& slot = g.marker[find(g.z, zs[k], ztol) + nz * find(g.theta, ths[k], ttol)];
+    int& slot = g.marker[find(g.z, zs[k]) + nz * find(g.theta, ths[k])];
     if (slot >= 0)
       t.fail("liner", "liner markers " + std::to_string(slot + 1) + " and " + std::to_string(k + 1) +
                           " are at the same axial level and angle");
@@ -646,8 +721,21 @@ void register_piston_liner(ElementRegistry& r) {
                bodies[0] == bodies[1])  // (the scene reader leaves this to a list element)
              t.fail("j", "markers i and j are on the same body: a force element connects two bodies");
            LinerGrid grid;
-           if (bodies.size() > 2) grid = liner_grid(t, c, spec.bore_radius);
-           return std::make_unique<PistonLiner>(std::move(spec), options, mu, vs, std::move(grid));
+           auto mode = PistonLiner::LinerJacobian::kLinearized;
+           if (bodies.size() > 2) {
+             grid = liner_grid(t, c, spec.bore_radius);
+             const std::string m = t.optional_choice("liner_jacobian", {"linearized", "differences", "none"})
+                                       .value_or("linearized");
+             mode = m == "differences" ? PistonLiner::LinerJacobian::kDifferences
+                    : m == "none"      ? PistonLiner::LinerJacobian::kNone
+                                       : PistonLiner::LinerJacobian::kLinearized;
+           } else {
+             for (const char* key : {"liner_jacobian", "liner_tolerance"}) {
+               t.accept(key);
+               if (t.has(key)) t.fail(key, "only with liner markers (`liner`)");
+             }
+           }
+           return std::make_unique<PistonLiner>(std::move(spec), options, mu, vs, std::move(grid), mode);
          }});
 }
 
