@@ -10,6 +10,11 @@ to 4.8 kHz, 45 coordinates) and its fidelity variants, each to its own steady st
   block_2k        short mains, block 11 coordinates (modes to 1.99 kHz)
   film4           engine_film4.toml: short mains, block 45, piston 4 on the piston-liner film (only in the
                   table, as a cost and level figure against the reference; not a fidelity level of item 6)
+  prismatic_guidance  the reference with the former piston guidance (prismatic joints to the liners, revolute
+                  small ends: over-constrained, docs/engine.md "Piston guidance")
+  finite_mains    finite (Reynolds, JFO) main bearings, block 45
+  finite_film4    engine_finite_mains.toml: finite mains and piston 4 on the film (issue 15's benchmark
+                  configuration)
 
 The variants are written by testdata/engine/make_scenes.py's flexible_scene into OUT (default out/engine/
 fidelity), next to links to block.h5, crankshaft.h5 and cylinder_pressure.csv in out/engine (make them with
@@ -21,9 +26,11 @@ For each kept (steady) cycle: postproc octave of the block points' vertical acce
 and the cost: cycles to steady state and CPU (user + system of the solve process) per cycle.
 
     /usr/bin/python3 bench/engine_fidelity.py [--build build] [--out out/engine/fidelity] [--rerun]
+                                              [--only NAME ...] [--max-cycles N] [--postproc PATH]
 
 A variant whose results and CPU record (.cpu.json) exist is not rerun (--rerun forces it). Writes
-OUT/engine_fidelity.md (the table) and docs/img/engine_fidelity.png (the chart).
+OUT/engine_fidelity.md (the table) and docs/img/engine_fidelity.png (the chart; OUT/engine_fidelity.png with
+--max-cycles).
 """
 import argparse
 import json
@@ -48,21 +55,24 @@ MAX_CYCLES = 20
 POINTS = ["jacket4_thrust", "oilpan_flange", "deck", "skirt"]
 MOUNTS = [f"mount{k}_z" for k in range(1, 5)]
 
-# name, label, mains, block coordinates, film cylinders
+# name, label, mains, block coordinates, film cylinders, piston guidance
 VARIANTS = [
-    ("reference", "short mains, block 4.8 kHz (45)", "short", 45, ()),
-    ("bushing_mains", "spring-damper mains, block 4.8 kHz (45)", "bushing", 45, ()),
-    ("block_3k5", "short mains, block 3.4 kHz (26)", "short", 26, ()),
-    ("block_2k", "short mains, block 2.0 kHz (11)", "short", 11, ()),
-    ("film4", "as reference, piston 4 on the film", "short", 45, (3,)),
+    ("reference", "short mains, block 4.8 kHz (45)", "short", 45, (), "in-line"),
+    ("bushing_mains", "spring-damper mains, block 4.8 kHz (45)", "bushing", 45, (), "in-line"),
+    ("block_3k5", "short mains, block 3.4 kHz (26)", "short", 26, (), "in-line"),
+    ("block_2k", "short mains, block 2.0 kHz (11)", "short", 11, (), "in-line"),
+    ("film4", "as reference, piston 4 on the film", "short", 45, (3,), "in-line"),
+    ("prismatic_guidance", "as reference, prismatic guidance (former)", "short", 45, (), "prismatic"),
+    ("finite_mains", "finite mains, block 4.8 kHz (45)", "finite", 45, (), "in-line"),
+    ("finite_film4", "finite mains, piston 4 on the film", "finite", 45, (3,), "in-line"),
 ]
 
 
-def write_scene(out, name, mains, modes, film):
+def write_scene(out, name, mains, modes, film, guidance, max_cycles):
     integ = P.INTEGRATOR_FILM if film else P.INTEGRATOR
     P.flexible_scene(name, f"Engine fidelity variant {name} (bench/engine_fidelity.py)", mains,
                      ["Written by bench/engine_fidelity.py; see docs/engine.md."], integ, modes, 20,
-                     steady=P.steady_block(max_cycles=MAX_CYCLES), film=film, outdir=out)
+                     steady=P.steady_block(max_cycles=max_cycles), film=film, outdir=out, guidance=guidance)
 
 
 def run(build, out, name, rerun):
@@ -84,9 +94,9 @@ def run(build, out, name, rerun):
     return r
 
 
-def post(build, out, name):
+def post(postproc, out, name):
     res = f"{name}.results.h5"
-    pp = str(build / "postproc" / "postproc")
+    pp = str(postproc)
     oct_h5 = out / f"{name}.octave.h5"
     if not oct_h5.exists() or oct_h5.stat().st_mtime < (out / res).stat().st_mtime:
         subprocess.run([pp, "octave"] + [f"{p}={res}:/markers/block.{p}/acceleration[z]" for p in POINTS] +
@@ -115,6 +125,10 @@ def main():
     ap.add_argument("--out", default=str(ROOT / "out" / "engine" / "fidelity"))
     ap.add_argument("--rerun", action="store_true")
     ap.add_argument("--only", nargs="*", help="variant names (default all)")
+    ap.add_argument("--max-cycles", type=int, default=MAX_CYCLES,
+                    help=f"at most this many cycles per variant (default {MAX_CYCLES}; fewer: a short comparison "
+                    "of the last cycle, steady or not)")
+    ap.add_argument("--postproc", help="the postproc executable (default BUILD/postproc/postproc)")
     a = ap.parse_args()
     build, out = Path(a.build).resolve(), Path(a.out).resolve()
     out.mkdir(parents=True, exist_ok=True)
@@ -123,12 +137,13 @@ def main():
         if not link.exists():
             link.symlink_to(out.parent / f)
     rows = {}
-    for name, label, mains, modes, film in VARIANTS:
+    postproc = Path(a.postproc) if a.postproc else build / "postproc" / "postproc"
+    for name, label, mains, modes, film, guidance in VARIANTS:
         if a.only and name not in a.only:
             continue
-        write_scene(out, name, mains, modes, film)
+        write_scene(out, name, mains, modes, film, guidance, a.max_cycles)
         r = run(build, out, name, a.rerun)
-        r["post"] = post(build, out, name)
+        r["post"] = post(postproc, out, name)
         rows[name] = (label, r)
         print(f"{name}: {r['cycles']} cycles, CPU {r['cpu_s']:.1f} s ({r['cpu_s'] / r['cycles']:.1f} s per cycle)",
               flush=True)
@@ -174,7 +189,8 @@ def main():
     ax[1].set_title("Change per band")
     ax[1].grid(True, which="both", alpha=0.3)
     fig.tight_layout()
-    png = ROOT / "docs" / "img" / "engine_fidelity.png"
+    # the documented chart only from the full runs; a short comparison keeps its chart beside its table
+    png = ROOT / "docs" / "img" / "engine_fidelity.png" if a.max_cycles == MAX_CYCLES else out / "engine_fidelity.png"
     png.parent.mkdir(exist_ok=True)
     fig.savefig(png, dpi=110)
     print(f"chart: {png}")

@@ -39,6 +39,8 @@ class Joint final : public Constraint {
       case JointType::kSpherical: return "spherical";
       case JointType::kPrismatic: return "prismatic";
       case JointType::kCylindrical: return "cylindrical";
+      case JointType::kInLine:
+        return "in-line";
     }
     return "?";
   }
@@ -57,6 +59,8 @@ class Joint final : public Constraint {
       case JointType::kFixed: return cat(cat(pt, axis), {"x_i.y_j"});
       case JointType::kCylindrical: return cat(axis, line);
       case JointType::kPrismatic: return cat(cat(axis, line), {"x_i.y_j"});
+      case JointType::kInLine:
+        return line;
     }
     return {};
   }
@@ -88,6 +92,10 @@ class Joint final : public Constraint {
         dot2(i, j, xj, out, 2);
         dot2(i, j, yj, out, 3);
         dot1(xi, yj, out, 4);
+        break;
+      case JointType::kInLine:  // point on line: the two dot-2 rows of the cylindrical joint
+        dot2(i, j, xj, out, 0);
+        dot2(i, j, yj, out, 1);
         break;
     }
   }

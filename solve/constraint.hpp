@@ -11,6 +11,8 @@
 //   point:   p_i - p_j = 0                         (3 equations)
 //   dot-1:   a_i . b_j = 0                         (two axes stay perpendicular)
 //   dot-2:   b_j . (p_i - p_j) = 0                 (the point of i stays in a plane of j)
+//   in-line: dot-2 with b_j = x_j and y_j         (the point of i stays on the z axis of j; Haug's
+//            point-on-line, the translational half of a cylindrical joint)
 //   angle:   x_i . (cos(theta) y_j - sin(theta) x_j) = 0  (relative rotation about z equals theta(t))
 #include <functional>
 #include <memory>
@@ -45,9 +47,11 @@ class Constraint {
   virtual void evaluate(double t, const MarkerMotion& i, const MarkerMotion& j, ConstraintEquations& out) const = 0;
 };
 
-enum class JointType { kFixed, kRevolute, kSpherical, kPrismatic, kCylindrical };
+enum class JointType { kFixed, kRevolute, kSpherical, kPrismatic, kCylindrical, kInLine };
 
-/// An ideal joint between marker frames i and j (axis: the markers' z).
+/// An ideal joint between marker frames i and j (axis: the markers' z). kInLine (point on line): the origin
+/// of marker i stays on the z axis of marker j, x_j . d = y_j . d = 0 with d = p_i - p_j (2 equations); it
+/// frees the sliding along z_j and all rotations (a piston's pin centre on its bore axis, docs/engine.md).
 std::unique_ptr<Constraint> make_joint(JointType type);
 
 /// Distance joint (a rigid massless link with a ball at each end, e.g. a rigid pushrod): |p_i - p_j| = L,

@@ -200,9 +200,10 @@ class SceneReader {
                                                            {"revolute", JointType::kRevolute},
                                                            {"spherical", JointType::kSpherical},
                                                            {"prismatic", JointType::kPrismatic},
-                                                           {"cylindrical", JointType::kCylindrical}};
-    const std::string type =
-        t.choice("type", {"fixed", "revolute", "spherical", "prismatic", "cylindrical", "distance", "in-plane"});
+                                                           {"cylindrical", JointType::kCylindrical},
+                                                           {"in-line", JointType::kInLine}};
+    const std::string type = t.choice("type", {"fixed", "revolute", "spherical", "prismatic", "cylindrical",
+                                               "in-line", "distance", "in-plane"});
     const MarkerRef i = marker(t, "i"), j = marker(t, "j");
     std::unique_ptr<Constraint> c;
     if (type == "distance") {

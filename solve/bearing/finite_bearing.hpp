@@ -23,6 +23,8 @@
 // Warm start: the object keeps its last (p, r) and its sensitivities d(p, r)/d(e, de/dt) (from the Jacobian
 // solves) and starts the next evaluation from the tangent prediction (p, r) + d(p, r)/dq dq, projected onto
 // p, r >= 0. It is a starting guess only: the converged result does not depend on it beyond the tolerance.
+// If Newton does not converge from it: from the cold start, then by continuation in de/dt from the
+// cold start at de/dt = 0 (solve_film); a failure keeps the last solution for the next call.
 // The object is a plain value type (copying it copies the last solution; the factorization is rebuilt on
 // demand).
 #include <Eigen/Core>
@@ -46,7 +48,8 @@ class FiniteBearing {
   /// options reuse factorizations (then the last step may have used an older one): it factorizes at the
   /// solution if needed. Without reuse_factorization the same as evaluate.
   FilmResult evaluate_with_jacobian(const Kinematics& k, Detail detail = Detail::kFull);
-  /// Forget the previous solution: the next evaluation starts cold (full-film linear solve, clipped).
+  /// Forget the previous solution: the next evaluation starts cold (full-film linear solve, clipped; if that
+  /// does not converge, by continuation in de/dt).
   void reset() { has_solution_ = false; }
 
   /// Pressure (Pa) of the last solution, cells_around x cells_across; cell (i, j) is centred at
@@ -62,6 +65,8 @@ class FiniteBearing {
  private:
   void mark_supply_cells();
   void set_motion(const Kinematics& k);
+  /// Solve the film at k into (P_, r_) (its motion set); the iterations, negative if it did not converge.
+  int solve_film(const Kinematics& k);
   /// Forces, torques, film extremes and power loss from (P, r); the flows from the assembly `a` if given.
   FilmResult post_process(const Kinematics& k, const FilmAssembly* a) const;
   void parameter_jacobian(const FilmAssembly& a, FilmResult& result);
@@ -83,6 +88,7 @@ class FiniteBearing {
   double p_ref_of_solution_ = 1;
   Kinematics kinematics_of_solution_;
   Eigen::VectorXd P_, r_;
+  Eigen::VectorXd P_good_, r_good_;  // the last solution while a new one is sought (solve_film)
   FilmAssembly final_state_;  // the fluxes at the last solution (for the flows), kept to reuse its storage
   // d(P, r)/d(ex, ey, ex_dot, ey_dot) of the last solution (nondimensional P per SI unit): the predictor.
   bool has_sensitivity_ = false;

@@ -6,15 +6,20 @@ The scenes are committed; rerun this after changing a parameter here and commit 
   engine.toml                 baseline: flexible block (block.toml, Craig-Bampton) on 4 non-linear mounts
                               + a Maxwell (hydro) element at mount 1; flexible crankshaft (../crankshaft.toml)
                               on 5 short (Ocvirk) journal bearings and a thrust bearing; 4 rigid conrods and
-                              pistons; revolute big and small ends; pistons guided by prismatic joints to the
-                              liners; gas forces 1-3-4-2 on the pistons and, reversed, on the cylinder heads;
-                              speed driver 2000 rpm at the flywheel
+                              pistons; revolute big ends, cylindrical small ends (floating pins), pistons held
+                              on their bore axes (in-line joints) and against turning about their pins
+                              (in-plane joints of the crowns) - no redundant equation; gas forces 1-3-4-2 on
+                              the pistons and, reversed, on the cylinder heads; speed driver 2000 rpm at the
+                              flywheel
   engine_bushing_mains.toml   the same with linear spring-damper main bearings (bushings, the paper's eq. 8)
   engine_steady.toml          engine.toml run to its periodic steady state ([steady_state]: the 4 mounts'
                               vertical forces and main bearing 3's force, tolerance 1e-2, the last cycle kept)
   engine_film4.toml           engine_steady.toml with piston 4 on the piston-liner film (skirt, oil and
                               roughness of testdata/slap level b) on a rigid liner at the block's liner4 point;
-                              pistons 1-3 keep their prismatic joints
+                              pistons 1-3 keep their joints
+  engine_finite_mains.toml    engine_film4.toml with 5 finite (Reynolds, JFO) main bearings: the issue's
+                              benchmark configuration (block to 5 kHz, beam crank, finite mains, lubricated
+                              piston 4)
   engine_rigid.toml           the rigid twin: block and crankshaft as rigid bodies (their superelements' mass,
                               centre of mass and inertia), bushing main bearings - seconds per cycle; the
                               energy-balance and mount-force test (tests/engine)
@@ -67,6 +72,9 @@ MAXWELL_K, MAXWELL_C = 1.0e5, 1000.0        # hydro mount's fluid path: corner k
 JB = dict(diameter=0.055, width=0.024, radial_clearance=30e-6, viscosity=0.008)
 MAIN_K, MAIN_D = 1.0e9, 2.0e4               # eq. 8 bearings: N/m, N s/m (radial)
 THRUST_K, THRUST_D = 1.0e8, 2.0e3           # axial, at main 3
+# finite (Reynolds) mains: the oil supply of testdata/scenes/bearing_crankshaft.toml; the hole in the upper
+# (unloaded by the gas) shell: the shell marker's x is +z (up), so +z is angle 0 about the crank axis
+FINITE_SUPPLY, FINITE_GRID, FINITE_HOLE_DEG = 3e5, (60, 20), 0.0
 
 
 def f(v):
@@ -177,24 +185,51 @@ def pin_z(k):
     return R if THROW_UP[k] else -R
 
 
-def crank_train(lines, block, crank_pin, head_at, liner_of, film=()):
+def crank_train(lines, block, crank_pin, head_at, liner_of, film=(), tilt_plane_of=None, guidance="in-line"):
     """Conrods, pistons, their joints, and the gas loads. crank_pin(k) names the crank pin marker (z along x),
-    head_at(k) the block's marker for the head reaction (or None), liner_of(k) the block's guide marker.
-    film: the cylinders (0-based) whose piston the piston-liner film guides instead of the prismatic joint
-    (their bore marker is the block's `bore<n>`, see skirt_film)."""
+    head_at(k) the block's marker for the head reaction (or None), liner_of(k) the block's guide marker (z the
+    cylinder axis), tilt_plane_of(k) the block's marker of the plane through the cylinder and crank axes (z the
+    thrust direction y; default liner_of(k) + "_plane").
+    The guidance holds each direction once (docs/engine.md, "Piston guidance"): big end revolute (5 equations),
+    small end cylindrical along the pin (4: the rod floats along the pin, the crank guides it axially), the
+    pin centre on the bore axis (in-line, 2) and the skirt's stop against turning about the pin (in-plane of
+    the crown, 1): 12 equations for the 12 coordinates of conrod and piston, none redundant.
+    film: the cylinders (0-based) whose piston the piston-liner film guides instead (their bore marker is the
+    block's `bore<n>`, see skirt_film); the film holds the lateral motion in the plane and the tilt about the
+    pin, the revolute small end the rest (the piston then floats with the rod along the crank axis).
+    guidance = "prismatic": the former guidance (prismatic joint to the liner, revolute small end: 15 equations,
+    3 redundant, an over-constrained crank train), kept for the comparison in bench/engine_fidelity.py."""
+    if tilt_plane_of is None:
+        tilt_plane_of = lambda k: liner_of(k) + "_plane"  # noqa: E731
     for k in range(4):
         n = k + 1
         zb = pin_z(k)
         zs = zb + math.sqrt(L_ROD**2 - 0.0)  # the conrod stands vertical at TDC and BDC
         if k in film:
             guide = skirt_film(n, block)
-        else:
+            small_end = "revolute"         # the film holds only the in-plane motion: the pin holds the rest
+        elif guidance == "prismatic":
             guide = f"""[[joint]]
-name = "guide{n}"                  # the simpler piston guidance: a prismatic joint to the liner
+name = "guide{n}"                  # the former guidance: a prismatic joint (over-constrained, 3 redundant)
 type = "prismatic"
 i = "piston{n}.slide"
 j = "{liner_of(k)}"
 """
+            small_end = "revolute"
+        else:
+            guide = f"""[[joint]]
+name = "guide{n}"                  # the bore holds the pin centre on its axis (both lateral directions)
+type = "in-line"
+i = "piston{n}.slide"
+j = "{liner_of(k)}"
+
+[[joint]]
+name = "tilt{n}"                   # the skirt stops the piston turning about its pin (secondary motion)
+type = "in-plane"
+i = "piston{n}.crown"
+j = "{tilt_plane_of(k)}"
+"""
+            small_end = "cylindrical"      # floating pin: the rod slides along it (crank-guided conrod)
         lines.append(f"""
 # ---- cylinder {n}: conrod and piston ({'TDC' if THROW_UP[k] else 'BDC'} at crank angle 0)
 [[body]]
@@ -225,7 +260,7 @@ position = [{f(CYL_X[k])}, 0, {f(zs)}]       # centre of mass taken on the pin a
   z = [1, 0, 0]
   x = [0, 0, 1]
   [[body.marker]]
-  name = "slide"                   # z along the cylinder axis (prismatic joint)
+  name = "slide"                   # z along the cylinder axis (the guide)
   z = [0, 0, 1]
   x = [1, 0, 0]
   [[body.marker]]
@@ -240,7 +275,7 @@ j = "{crank_pin(k)}"
 
 [[joint]]
 name = "small_end{n}"
-type = "revolute"
+type = "{small_end}"
 i = "piston{n}.pin"
 j = "conrod{n}.small_end"
 
@@ -365,6 +400,12 @@ def main_bearings(lines, kind, crank, block):
         lines.append(f"""
 # ---- main bearings: short (Ocvirk) hydrodynamic journal bearings, D 55 mm, L 24 mm (crankshaft.toml),
 # radial clearance 30 um, SAE 5W-30 near 100 C: 0.008 Pa s (as testdata/scenes/bearing_crankshaft.toml)""")
+    elif kind == "finite":
+        lines.append(f"""
+# ---- main bearings: finite (Reynolds) journal bearings with JFO cavitation (docs/bearing.md), D 55 mm, L 24 mm,
+# radial clearance 30 um, 0.008 Pa s; oil fed at {FINITE_SUPPLY:.0e} Pa through a 5 mm hole in the upper shell
+# (angle {FINITE_HOLE_DEG:g} deg from the shell marker's x = +z: the top, away from the gas load); {FINITE_GRID[0]} x
+# {FINITE_GRID[1]} cells (the grid of testdata/scenes/bearing_crankshaft.toml)""")
     else:
         lines.append(f"""
 # ---- main bearings: linear spring-dampers (bushings; the paper's eq. 8 in both radial directions):
@@ -384,6 +425,25 @@ diameter = {JB['diameter']}
 width = {JB['width']}
 radial_clearance = {JB['radial_clearance']}
 viscosity = {JB['viscosity']}
+""")
+        elif kind == "finite":
+            lines.append(f"""
+[[force]]
+name = "main{n}"
+type = "journal-bearing"
+model = "finite"
+i = "{crank}.journal{n}"
+j = "{block}.shell{n}"
+diameter = {JB['diameter']}
+width = {JB['width']}
+radial_clearance = {JB['radial_clearance']}
+viscosity = {JB['viscosity']}
+supply_pressure = {FINITE_SUPPLY:g}
+cavitation = "jfo"
+grid = [{FINITE_GRID[0]}, {FINITE_GRID[1]}]
+  [[force.hole]]
+  angle_deg = {FINITE_HOLE_DEG:g}
+  diameter = 0.005
 """)
         else:
             lines.append(f"""
@@ -411,7 +471,7 @@ CRANK_Q = [math.sqrt(0.5), math.sqrt(0.5), 0, 0]    # crank y (throw 1) -> globa
 
 
 def flexible_scene(name, title, mains, lines_doc, integrator, block_modes, crank_modes, steady=None, film=(),
-                   end_cycles=3, outdir=HERE):
+                   end_cycles=3, outdir=HERE, guidance="in-line"):
     lines = [header(title, lines_doc)]
     lines.append('[scene]\nname = "' + name + '"\ngravity = [0, 0, 0]\n')
     ground(lines)
@@ -431,6 +491,13 @@ position = [0, 0, 0]
         lines.append(f"""  name = "shell{b + 1}"                # main bearing shell, z along the crank axis
   point = "main{b + 1}"
   z = [1, 0, 0]
+  x = [0, 0, 1]""")
+    for k in range(4):
+        if k not in film:
+            lines.append(f"""  [[body.marker]]
+  name = "liner{k + 1}_plane"           # the plane of cylinder and crank axes (the tilt stop): z thrust (y)
+  point = "liner{k + 1}"
+  z = [0, 1, 0]
   x = [0, 0, 1]""")
     for k in film:
         lines.append(f"""  [[body.marker]]
@@ -471,7 +538,7 @@ angular_velocity = [{f(OMEGA)}, 0, 0]""")
     mounts(lines, "block", maxwell=True)
     main_bearings(lines, mains, "crank", "block")
     crank_train(lines, "block", lambda k: f"crank.crankpin{k + 1}", lambda k: f"block.head{k + 1}",
-                lambda k: f"block.liner{k + 1}", film)
+                lambda k: f"block.liner{k + 1}", film, guidance=guidance)
     markers = ["block.jacket4_thrust", "block.oilpan_flange", "block.deck", "block.skirt", "block.mount1",
                "block.mount2", "block.mount3", "block.mount4", "block.liner4", "crank.pulley", "crank.fly"]
     markers += [f"piston{k + 1}.pin" for k in film]
@@ -484,7 +551,7 @@ def rigid_scene():
         "The baseline engine.toml with the block and the crankshaft as rigid bodies (each with its",
         "superelement's mass, centre of mass and inertia: block.h5 and crankshaft.h5) and linear spring-damper",
         "main bearings; everything else as in the baseline: mounts (with the Maxwell element), conrods, pistons,",
-        "prismatic guidance, gas on pistons and heads, 2000 rpm at the flywheel. Two cycles in a few seconds."])]
+        "their guidance, gas on pistons and heads, 2000 rpm at the flywheel. Two cycles in a few seconds."])]
     lines.append('[scene]\nname = "engine-rigid"\ngravity = [0, 0, 0]\n')
     ground(lines)
     head = "".join(f"""  [[body.marker]]
@@ -493,6 +560,11 @@ def rigid_scene():
   [[body.marker]]
   name = "liner{k + 1}"
   at = [{f(CYL_X[k] - BLOCK_C[0])}, {f(-BLOCK_C[1])}, {f(0.145 - BLOCK_C[2])}]
+  [[body.marker]]
+  name = "liner{k + 1}_plane"
+  at = [{f(CYL_X[k] - BLOCK_C[0])}, {f(-BLOCK_C[1])}, {f(0.145 - BLOCK_C[2])}]
+  z = [0, 1, 0]
+  x = [0, 0, 1]
 """ for k in range(4))
     shells = "".join(f"""  [[body.marker]]
   name = "shell{b + 1}"
@@ -565,6 +637,11 @@ def throws_scene():
     liners = "".join(f"""  [[body.marker]]
   name = "liner{k + 1}"
   at = [{f(CYL_X[k])}, 0, 0.145]
+  [[body.marker]]
+  name = "liner{k + 1}_plane"
+  at = [{f(CYL_X[k])}, 0, 0.145]
+  z = [0, 1, 0]
+  x = [0, 0, 1]
 """ for k in range(4))
     mains = "".join(f"""  [[body.marker]]
   name = "main{b + 1}"
@@ -664,9 +741,9 @@ INTEGRATOR = 'method = "ida"\nrtol = 1e-5\natol = 1e-8\nmax_step = 2e-5'
 INTEGRATOR_FILM = INTEGRATOR + '\nvelocity_atol = 1e-5'
 BASELINE_DOC = ["Baseline of the engine scene family (docs/engine.md): the flexible block on 4 mounts (one with",
                 "a Maxwell hydro element), the flexible crankshaft with pulley and flywheel on 5 short journal",
-                "bearings and a thrust bearing, 4 rigid conrods and pistons on revolute big and small ends,",
-                "pistons guided by prismatic joints to the liners (the simpler guidance; the lubricated",
-                "piston-liner element is for cylinder 4 later), gas forces on pistons and heads, speed driver.",
+                "bearings and a thrust bearing, 4 rigid conrods and pistons on revolute big ends and cylindrical",
+                "small ends (floating pins), pistons held on their bore axes (in-line) and against turning about",
+                "their pins (in-plane), gas forces on pistons and heads, speed driver.",
                 "Superelements made beside this file's copy by `make -f Makefile.workflow engine`:",
                 "block.h5 (condense block.toml, ~3 min, ~2-4 GB) and crankshaft.h5 (condense ../crankshaft.toml)."]
 STEADY_DOC = ["engine.toml run to its periodic steady state ([steady_state]: the 4 mounts' vertical forces and main",
@@ -674,19 +751,16 @@ STEADY_DOC = ["engine.toml run to its periodic steady state ([steady_state]: the
               "the last cycle is the result); everything else identical (docs/engine.md)."]
 FILM4_DOC = ["engine_steady.toml with piston 4 guided by the piston-liner element (the skirt film with asperity",
              "contact on a rigid liner whose frame is the block's liner4 point, block.bore4) instead of its",
-             "prismatic joint; skirt, oil and roughness of testdata/slap level (b); pistons 1-3 keep their",
-             "prismatic joints. Run to the periodic steady state (docs/engine.md)."]
+             "in-line guidance; skirt, oil and roughness of testdata/slap level (b); pistons 1-3 keep their",
+             "in-line guidance. Run to the periodic steady state (docs/engine.md)."]
+FINITE_DOC = ["engine_film4.toml with the 5 main bearings finite (Reynolds equation on a 60 x 20 grid, JFO",
+              "cavitation, oil fed at 3 bar through a hole in the upper shell) instead of short (Ocvirk): the",
+              "benchmark configuration of issue 15 (block to 5 kHz, beam crank, finite mains, lubricated",
+              "piston 4). Run to the periodic steady state (docs/engine.md)."]
 
 if __name__ == "__main__":
     flexible_scene("engine", "The engine: a 2.0 l four-cylinder in-line gasoline engine at 2000 rpm, full load", "short",
-                   ["Baseline of the engine scene family (docs/engine.md): the flexible block on 4 mounts (one with",
-                    "a Maxwell hydro element), the flexible crankshaft with pulley and flywheel on 5 short journal",
-                    "bearings and a thrust bearing, 4 rigid conrods and pistons on revolute big and small ends,",
-                    "pistons guided by prismatic joints to the liners (the simpler guidance; the lubricated",
-                    "piston-liner element is for cylinder 4 later), gas forces on pistons and heads, speed driver.",
-                    "Superelements made beside this file's copy by `make -f Makefile.workflow engine`:",
-                    "block.h5 (condense block.toml, ~3 min, ~2-4 GB) and crankshaft.h5 (condense ../crankshaft.toml)."],
-                   INTEGRATOR, 45, 20)
+                   BASELINE_DOC, INTEGRATOR, 45, 20)
     flexible_scene("engine_bushing_mains", "The engine with spring-damper main bearings (fidelity variant)", "bushing",
                    ["engine.toml with the 5 journal bearings replaced by linear spring-dampers (bushings, the",
                     "paper's eq. 8); everything else identical (docs/engine.md)."],
@@ -695,5 +769,7 @@ if __name__ == "__main__":
                    INTEGRATOR, 45, 20, steady=steady_block())
     flexible_scene("engine_film4", "The engine at its periodic steady state, cylinder 4's piston lubricated",
                    "short", FILM4_DOC, INTEGRATOR_FILM, 45, 20, steady=steady_block(), film=(3,))
+    flexible_scene("engine_finite_mains", "The engine with finite main bearings and cylinder 4's piston lubricated",
+                   "finite", FINITE_DOC, INTEGRATOR_FILM, 45, 20, steady=steady_block(), film=(3,))
     rigid_scene()
     throws_scene()

@@ -303,7 +303,7 @@ j = "b.m"
 }
 
 TEST(AnalyticJacobian, JointsAndTheirReactions) {
-  for (const std::string type : {"revolute", "spherical", "prismatic", "cylindrical", "fixed"})
+  for (const std::string type : {"revolute", "spherical", "prismatic", "cylindrical", "in-line", "fixed"})
     expect_exact(jointed("type = \"" + type + "\""), type + " joint");
 }
 
