@@ -712,7 +712,7 @@ def runup_scene(ramp_s=RUNUP_RAMP_S, hold_s=RUNUP_HOLD_S, out=HERE / "engine_run
          f"# the dynamometer's run-up {rpm0:.0f} -> {rpm1:.0f} rpm")
     once(f"rpm = {RPM:.0f}\n", f"table = [[0, {rpm0:.0f}], [{hold_s:g}, {rpm0:.0f}], [{end_s:g}, {rpm1:.0f}]]"
          "    # [time s, rpm], linear between points\n")
-    once("\nend_cycles = 3\n", f"\nend_time = {end_s:g}\n")
+    once("\ncycle_deg = 720\nend_cycles = 3\n", f"\nend_time = {end_s:g}\n")
     once("sample_rate_hz = 24000             # 2 samples per crank degree (0.5 deg) at 2000 rpm, Nyquist 12 kHz",
          "sample_rate_hz = 24000             # 4 .. 1.33 samples per crank degree over 1000 .. 3000 rpm")
     Path(out).write_text(text)
