@@ -9,6 +9,7 @@ std::unique_ptr<Analysis> make_orders_analysis();
 std::unique_ptr<Analysis> make_stats_analysis();
 std::unique_ptr<Analysis> make_erp_analysis();
 std::unique_ptr<Analysis> make_animate_analysis();
+std::unique_ptr<Analysis> make_history_analysis();
 
 const std::vector<AnalysisEntry>& analyses() {
   // The registry: one line per analysis (subcommand, `postproc --help` line, factory).
@@ -20,6 +21,8 @@ const std::vector<AnalysisEntry>& analyses() {
       {"erp", "surface normal velocity and equivalent radiated power of a flexible body", make_erp_analysis},
       {"animate", "a flexible body's deformed surface over time as XDMF + HDF5 for ParaView",
        make_animate_analysis},
+      {"history", "a signal's samples in its time or crank-angle window, with time and angle",
+       make_history_analysis},
   };
   return registry;
 }

@@ -13,6 +13,8 @@ std::string AnalysisWindow::describe() const {
   if (start_s) s << " --start " << *start_s;
   if (end_s) s << " --end " << *end_s;
   if (skip_cycles > 0) s << " --skip-cycles " << skip_cycles;
+  if (angle_from_deg) s << " --angle-window " << *angle_from_deg << "," << angle_to_deg.value_or(0.0);
+  if (angle_period_deg) s << " --angle-period " << *angle_period_deg;
   return s.str().empty() ? std::string() : s.str().substr(1);
 }
 
@@ -55,6 +57,53 @@ SampleRange time_window_samples(const SignalInfo& info, double file_start_s, std
     throw Error(msg.str());
   }
   return r;
+}
+
+AngleSpan angle_window_span(const AnalysisWindow& window, double first_deg, double last_deg,
+                            const std::string& address) {
+  std::ostringstream msg;
+  msg.precision(10);
+  const double a0 = window.angle_from_deg.value_or(0.0), a1 = window.angle_to_deg.value_or(0.0);
+  if (!window.angle_from_deg || !window.angle_to_deg || !std::isfinite(a0) || !std::isfinite(a1) ||
+      a0 >= a1) {
+    msg << "--angle-window " << a0 << "," << a1
+        << ": expected two finite angles FROM,TO in deg with FROM < TO";
+    throw Error(msg.str());
+  }
+  const double tolerance = 1e-9 * (std::abs(a0) + std::abs(a1) + std::abs(last_deg) + 1.0);
+  AngleSpan span{a0, a1};
+  if (window.angle_period_deg) {
+    const double p = *window.angle_period_deg;
+    if (!std::isfinite(p) || p < a1 - a0) {
+      msg << "--angle-period " << p << ": expected at least the window's length " << a1 - a0 << " deg";
+      throw Error(msg.str());
+    }
+    // The largest integer k with a1 + k p <= last: the last whole occurrence.
+    const double k = std::floor((last_deg - a1 + tolerance) / p);
+    span = {a0 + k * p, a1 + k * p};
+  }
+  if (span.from_deg < first_deg - tolerance || span.to_deg > last_deg + tolerance) {
+    msg << window.describe() << ": the shaft angle '" << address << "' runs from " << first_deg << " to "
+        << last_deg << " deg in the signal's window; expected the angle window [" << span.from_deg << ", "
+        << span.to_deg << "] deg inside it";
+    throw Error(msg.str());
+  }
+  return span;
+}
+
+AngleWindowFinder::AngleWindowFinder(AngleSpan span)
+    : span_(span), tolerance_(1e-9 * (std::abs(span.from_deg) + std::abs(span.to_deg) + 1.0)) {}
+
+void AngleWindowFinder::push(std::span<const double> angle_deg) {
+  for (std::size_t i = 0; i < angle_deg.size(); ++i) {
+    const double a = angle_deg[i];
+    if (a >= span_.from_deg - tolerance_ && a <= span_.to_deg + tolerance_) {
+      const std::int64_t index = seen_ + static_cast<std::int64_t>(i);
+      if (first_ < 0) first_ = index;
+      last_ = index;
+    }
+  }
+  seen_ += static_cast<std::int64_t>(angle_deg.size());
 }
 
 bool CycleSkipper::push(std::span<const double> angle_deg) {

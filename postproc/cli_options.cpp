@@ -22,6 +22,28 @@ void add_time_window(CLI::App& sub, CommonOptions& c) {
   sub.add_option_function<double>(
       "--end", [&c](double t) { c.window.end_s = t; },
       "analyse up to this time, s (default: the signal's last sample)");
+  add_angle_window(sub, c);
+}
+
+void add_angle_window(CLI::App& sub, CommonOptions& c) {
+  // The shaft-angle window (docs/postproc.md section 2.1): e.g. -30..+90 deg about a cylinder's firing TDC.
+  sub.add_option_function<std::vector<double>>(
+         "--angle-window",
+         [&c](const std::vector<double>& a) {
+           c.window.angle_from_deg = a.at(0);
+           c.window.angle_to_deg = a.at(1);
+         },
+         "FROM,TO: analyse only the samples whose shaft angle lies in [FROM, TO], deg (after --start/--end)")
+      ->expected(2)
+      ->delimiter(',');
+  sub.add_option_function<double>(
+      "--angle-period", [&c](double p) { c.window.angle_period_deg = p; },
+      "the angle window repeats with this period, deg (720: a 4-stroke cycle); its last whole occurrence is "
+      "used");
+  sub.add_option(
+      "--window-angle", c.window.angle_address,
+      "the unwrapped shaft angle of --angle-window, deg (default /crank_angle_deg: that dataset in each "
+      "signal's file; or a full signal address)");
 }
 
 void add_common(CLI::App& sub, CommonOptions& c, CliShared& shared) {

@@ -14,6 +14,9 @@ reference (read from the file's attributes):
   order_cut_files.png        mean order amplitudes of several files against their rpm (orders --cut)
   erp_<body>.png             ERP per band (bars) with each region's contribution, and the area-mean
                              surface velocity level (postproc erp)
+  history_<signal>.png       the windowed samples against the shaft angle in the cycle (or the crank angle,
+                             or time) (postproc history)
+  history_all.png            every signal of the file in a column of axes sharing that abscissa
 """
 import os
 import sys
@@ -183,6 +186,35 @@ def plot_erp(group, outdir):
         save(fig, outdir, f"erp_{name}.png")
 
 
+def history_abscissa(g):
+    for key, label in (("cycle_angle_deg", "crank angle in the cycle [deg]"), ("crank_angle_deg", "crank angle [deg]")):
+        if key in g:
+            return g[key][()], label
+    return g["time_s"][()], "time [s]"
+
+
+def plot_history(group, outdir):
+    names = list(group.keys())
+    fig_all, axes = plt.subplots(len(names), 1, figsize=(9, 2.2 * len(names) + 1), sharex=True, squeeze=False)
+    for ax_all, name in zip(axes[:, 0], names):
+        g = group[name]
+        x, xlabel = history_abscissa(g)
+        y = g["value"][()]
+        units = text(g["value"].attrs["units"])
+        fig, ax = plt.subplots(figsize=(9, 4.5))
+        ax.plot(x, y, lw=0.8)
+        ax.set_xlabel(xlabel)
+        ax.set_ylabel(f"{name} [{units}]")
+        ax.set_title(f"{name}: {len(y)} samples, {g.attrs['window_start_s']:.6g} to {g.attrs['window_end_s']:.6g} s")
+        ax.grid(True, alpha=0.3)
+        save(fig, outdir, f"history_{name}.png")
+        ax_all.plot(x, y, lw=0.8)
+        ax_all.set_ylabel(f"{name}\n[{units}]", fontsize=8)
+        ax_all.grid(True, alpha=0.3)
+    axes[-1, 0].set_xlabel(xlabel)
+    save(fig_all, outdir, "history_all.png")
+
+
 def main():
     if len(sys.argv) != 3:
         sys.exit(__doc__)
@@ -197,6 +229,8 @@ def main():
             plot_orders(f["orders"], outdir)
         if "erp" in f:
             plot_erp(f["erp"], outdir)
+        if "history" in f:
+            plot_history(f["history"], outdir)
 
 
 if __name__ == "__main__":

@@ -1,21 +1,75 @@
 #include "postproc/windowing.hpp"
 
+#include <cmath>
 #include <sstream>
+#include <vector>
 
 #include "common/error.hpp"
 #include "postproc/output.hpp"
 #include "postproc/shaft_angle.hpp"
+#include "postproc/signal_input.hpp"
 
 namespace nvh::postproc {
 
+namespace {
+
+/// --angle-window on a signal already restricted to the time window `range`: the samples whose shaft angle
+/// (the dataset --window-angle, sampled with the signal) lies in the span of angle_window_span().
+void apply_angle_window(SignalSource& signal, const SampleRange& range, const AnalysisWindow& window,
+                        std::int64_t block, const Logger& log) {
+  if (window.skip_cycles > 0)
+    throw Error("--angle-window and --skip-cycles exclude each other; expected one of them");
+  const SignalInfo& info = signal.info();
+  std::string address = window.angle_address;
+  if (!address.empty() && address[0] == '/') address = info.file.string() + ":" + address;
+  SignalSource angle = SignalSource::open(address);
+  if (angle.size() != signal.file_size() ||
+      std::abs(angle.info().sample_rate_hz - info.sample_rate_hz) > 1e-9 * info.sample_rate_hz) {
+    std::ostringstream msg;
+    msg << "--angle-window: the shaft angle '" << angle.info().address << "' (" << angle.size()
+        << " samples at " << angle.info().sample_rate_hz << " Hz) does not match signal '" << info.address
+        << "' (" << signal.file_size() << " samples at " << info.sample_rate_hz
+        << " Hz); expected an angle sampled with the signal (--window-angle)";
+    throw Error(msg.str());
+  }
+  angle.restrict_to(range.first, range.count);
+  std::vector<double> first(1), last(1);
+  angle.read(0, first);
+  angle.read(angle.size() - 1, last);
+  if (!(last[0] > first[0])) {
+    std::ostringstream msg;
+    msg << "--angle-window: the shaft angle '" << angle.info().address
+        << "' does not increase over the window (" << first[0] << " to " << last[0]
+        << " deg); expected an unwrapped, increasing angle in deg";
+    throw Error(msg.str());
+  }
+  AngleWindowFinder finder(angle_window_span(window, first[0], last[0], angle.info().address));
+  for_each_block(angle, block, log, "angle window",
+                 [&](std::int64_t, std::span<const double> a) { finder.push(a); });
+  const SampleRange inside = finder.range();
+  if (inside.count < 2) {
+    std::ostringstream msg;
+    msg << window.describe() << ": the angle window holds " << inside.count << " sample(s) of '"
+        << info.address << "'; expected at least 2";
+    throw Error(msg.str());
+  }
+  signal.restrict_to(range.first + inside.first, inside.count);
+}
+
+}  // namespace
+
 /// Restrict `signal` to the analysis window: --start/--end, then --skip-cycles with the shaft angle
-/// (`angle` may be null when the subcommand has none). No-op without a window.
+/// (`angle` may be null when the subcommand has none) or --angle-window. No-op without a window.
 void apply_window(SignalSource& signal, const AnalysisWindow& window, const AngleSource* angle,
                   double cycle_deg, std::int64_t block, const Logger& log) {
   if (!window.active()) return;
   const SampleRange range =
       time_window_samples(signal.info(), signal.file_start_time_s(), signal.file_size(), window);
   signal.restrict_to(range.first, range.count);
+  if (window.angle_active()) {
+    apply_angle_window(signal, range, window, block, log);
+    return;
+  }
   if (window.skip_cycles <= 0) return;
   if (!angle) throw Error("--skip-cycles needs a shaft angle; this subcommand has none");
   AngleProvider provider(*angle, signal, block, log);

@@ -23,6 +23,10 @@ The scenes are committed; rerun this after changing a parameter here and commit 
   engine_rigid.toml           the rigid twin: block and crankshaft as rigid bodies (their superelements' mass,
                               centre of mass and inertia), bushing main bearings - seconds per cycle; the
                               energy-balance and mount-force test (tests/engine)
+  engine_runup.toml           engine.toml as a run-up for order cuts over speed: the speed driver holds
+                              1000 rpm for 0.2 s (the mounts' start-up), then ramps linearly to 3000 rpm in
+                              1.2 s (about 20 cycles); `make_scenes.py runup --seconds S -o FILE` writes a
+                              run-up of another length (the workflow's quick variant)
   engine_rigid_throws.toml    the statically determinate crank train: 4 rigid throws, each on its own 2
                               half main bearings (bushings to ground), each turned by its own speed driver;
                               the main-bearing load test against the hand calculation (tests/engine)
@@ -758,7 +762,53 @@ FINITE_DOC = ["engine_film4.toml with the 5 main bearings finite (Reynolds equat
               "benchmark configuration of issue 15 (block to 5 kHz, beam crank, finite mains, lubricated",
               "piston 4). Run to the periodic steady state (docs/engine.md)."]
 
+# ---- the run-up (docs/engine.md "Results"): engine.toml with the speed driver's table instead of its constant
+# rpm; the scene ends by time. Written from flexible_scene's baseline text, each change checked to apply once.
+RUNUP_RPM = (1000.0, 3000.0)
+RUNUP_HOLD_S, RUNUP_RAMP_S = 0.2, 1.2
+
+
+def runup_scene(ramp_s=RUNUP_RAMP_S, hold_s=RUNUP_HOLD_S, out=HERE / "engine_runup.toml"):
+    import tempfile
+    rpm0, rpm1 = RUNUP_RPM
+    with tempfile.TemporaryDirectory() as tmp:
+        flexible_scene("engine_runup", f"The engine's run-up, {rpm0:.0f} to {rpm1:.0f} rpm in {ramp_s:g} s",
+                       "short", ["engine.toml with the speed driver's rpm(t) table: "
+                                 f"{rpm0:.0f} rpm held for {hold_s:g} s (the mounts' start-up transient),",
+                                 f"then a linear ramp to {rpm1:.0f} rpm in {ramp_s:g} s; ends at "
+                                 f"{hold_s + ramp_s:g} s. For order cuts of the mounts over speed",
+                                 "(postproc orders --cuts; docs/engine.md \"Results\")."],
+                       INTEGRATOR, 45, 20, outdir=tmp)
+        text = (Path(tmp) / "engine_runup.toml").read_text()
+    end_s = hold_s + ramp_s
+    omega0 = rpm0 * 2 * math.pi / 60
+
+    def once(old, new):
+        nonlocal text
+        assert text.count(old) == 1, old
+        text = text.replace(old, new)
+
+    once(f"angular_velocity = [{f(OMEGA)}, 0, 0]", f"angular_velocity = [{f(omega0)}, 0, 0]")
+    once(f"# the dynamometer holds {RPM:.0f} rpm at the flywheel",
+         f"# the dynamometer's run-up {rpm0:.0f} -> {rpm1:.0f} rpm")
+    once(f"rpm = {RPM:.0f}\n", f"table = [[0, {rpm0:.0f}], [{hold_s:g}, {rpm0:.0f}], [{end_s:g}, {rpm1:.0f}]]"
+         "    # [time s, rpm], linear between points\n")
+    once("\ncycle_deg = 720\nend_cycles = 3\n", f"\nend_time = {end_s:g}\n")
+    once("sample_rate_hz = 24000             # 2 samples per crank degree (0.5 deg) at 2000 rpm, Nyquist 12 kHz",
+         "sample_rate_hz = 24000             # 4 .. 1.33 samples per crank degree over 1000 .. 3000 rpm")
+    Path(out).write_text(text)
+
+
 if __name__ == "__main__":
+    import sys
+    if sys.argv[1:2] == ["runup"]:   # make_scenes.py runup --seconds S -o FILE: a run-up of another length
+        import argparse
+        ap = argparse.ArgumentParser(prog="make_scenes.py runup")
+        ap.add_argument("--seconds", type=float, default=RUNUP_RAMP_S, help="ramp time, s")
+        ap.add_argument("-o", "--output", type=Path, required=True)
+        a = ap.parse_args(sys.argv[2:])
+        runup_scene(a.seconds, out=a.output)
+        sys.exit(0)
     flexible_scene("engine", "The engine: a 2.0 l four-cylinder in-line gasoline engine at 2000 rpm, full load", "short",
                    BASELINE_DOC, INTEGRATOR, 45, 20)
     flexible_scene("engine_bushing_mains", "The engine with spring-damper main bearings (fidelity variant)", "bushing",
@@ -773,3 +823,4 @@ if __name__ == "__main__":
                    "finite", FINITE_DOC, INTEGRATOR_FILM, 45, 20, steady=steady_block(), film=(3,))
     rigid_scene()
     throws_scene()
+    runup_scene()

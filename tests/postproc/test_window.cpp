@@ -263,3 +263,99 @@ TEST(postproc_window_samples, CycleSkipperFindsTheBoundaryAcrossBlocks) {
   on.push(block);
   EXPECT_EQ(on.sample(), 36);
 }
+
+TEST(postproc_window_samples, AngleWindowSpanIsTheLastWholeOccurrence) {
+  // --angle-window 330,450 --angle-period 720 on an angle from 10 to 36000 deg: the largest k with
+  // 450 + 720 k <= 36000 is k = floor(35550 / 720) = 49, so [35610, 35730] deg.
+  AnalysisWindow w;
+  w.angle_from_deg = 330.0;
+  w.angle_to_deg = 450.0;
+  w.angle_period_deg = 720.0;
+  const auto span = nvh::postproc::angle_window_span(w, 10.0, 36000.0, "a");
+  EXPECT_DOUBLE_EQ(span.from_deg, 35610.0);
+  EXPECT_DOUBLE_EQ(span.to_deg, 35730.0);
+  // Ending exactly on an occurrence's end: that occurrence (k = 1: [1050, 1170]).
+  EXPECT_DOUBLE_EQ(nvh::postproc::angle_window_span(w, 0.0, 1170.0, "a").from_deg, 1050.0);
+  // Without a period the window is absolute and must lie inside the angle's range.
+  w.angle_period_deg.reset();
+  EXPECT_DOUBLE_EQ(nvh::postproc::angle_window_span(w, 0.0, 1170.0, "a").from_deg, 330.0);
+  EXPECT_THROW(nvh::postproc::angle_window_span(w, 340.0, 1170.0, "a"), nvh::Error);
+  w.angle_to_deg = 300.0;  // FROM >= TO
+  EXPECT_THROW(nvh::postproc::angle_window_span(w, 0.0, 1170.0, "a"), nvh::Error);
+  w.angle_to_deg = 450.0;
+  w.angle_period_deg = 100.0;  // shorter than the 120 deg window
+  EXPECT_THROW(nvh::postproc::angle_window_span(w, 0.0, 1170.0, "a"), nvh::Error);
+}
+
+TEST(postproc_window_samples, AngleWindowFinderCountsSamplesAcrossBlocks) {
+  // Angle 5 + 10 i deg in blocks of 50; span [1000, 1500]: first i = ceil(99.5) = 100, last i = floor(149.5)
+  // = 149 (50 samples). A sample on a bound is inside: span [1005, 1495] gives the same samples.
+  for (const auto& span :
+       {nvh::postproc::AngleSpan{1000.0, 1500.0}, nvh::postproc::AngleSpan{1005.0, 1495.0}}) {
+    nvh::postproc::AngleWindowFinder finder(span);
+    std::vector<double> block(50);
+    for (int b = 0; b < 4; ++b) {
+      for (int i = 0; i < 50; ++i) block[i] = 5.0 + 10.0 * (50 * b + i);
+      finder.push(block);
+    }
+    EXPECT_EQ(finder.range().first, 100);
+    EXPECT_EQ(finder.range().count, 50);
+  }
+}
+
+TEST_F(postproc_window, AngleWindowHoldsTheClosedFormSignalAtHandCountedSamples) {
+  // The angle is 9000 deg/s x t (1500 rpm) from 0 to 36000 deg at t = 4 s, sampled at 4096 Hz. The window
+  // -30..+90 deg about 360 deg, every 720 deg, last whole occurrence: [35610, 35730] deg (k = 49), i.e.
+  // samples i = ceil(35610 x 4096 / 9000) = ceil(16206.507) = 16207 to floor(16261.12) = 16261 (55 samples).
+  // There the transient has decayed (e^{-39.6} = 6e-18): the samples are B sin(2 pi f0 i / fs) to round-off.
+  CliRun r = run("history " + signal() + " -o " + out() +
+                 " --angle-window 330,450 --angle-period 720 --csv " + (dir_ / "csv").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  nvh::h5::File file = nvh::h5::File::open_read(out());
+  const nvh::h5::Group g = group(file, "history/acc");
+  const Eigen::VectorXd t = g.read_vector("time_s"), x = g.read_vector("value"),
+                        a = g.read_vector("crank_angle_deg"), c = g.read_vector("cycle_angle_deg");
+  ASSERT_EQ(x.size(), 55);
+  EXPECT_DOUBLE_EQ(t[0], 16207.0 / kFs);
+  EXPECT_DOUBLE_EQ(t[54], 16261.0 / kFs);
+  for (Eigen::Index i = 0; i < x.size(); ++i) {
+    const double ti = (16207.0 + static_cast<double>(i)) / kFs;
+    EXPECT_NEAR(x[i], kB * std::sin(2 * kPi * kF0 * ti), 1e-12) << i;
+    EXPECT_NEAR(a[i], 9000.0 * ti, 1e-9) << i;
+    EXPECT_NEAR(c[i], 9000.0 * ti - 49 * 720.0, 1e-9) << i;  // the angle within the cycle, 330..450 deg
+  }
+  EXPECT_GE(c[0], 330.0);
+  EXPECT_LE(c[54], 450.0);
+  EXPECT_TRUE(fs::exists(dir_ / "csv" / "history_acc.csv"));
+  // The same window for another analysis (stats): the same 55 samples, their mean square the closed form's.
+  r = run("stats " + signal() + " -o " + out() + " --angle-window 330,450 --angle-period 720");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  nvh::h5::File s = nvh::h5::File::open_read(out());
+  const nvh::h5::Group sg = group(s, "stats/acc");
+  EXPECT_EQ(sg.int_attribute("samples"), 55);
+  EXPECT_DOUBLE_EQ(sg.double_attribute("window_start_s"), 16207.0 / kFs);
+  double ms = 0.0;
+  for (int i = 16207; i <= 16261; ++i) ms += std::pow(kB * std::sin(2 * kPi * kF0 * i / kFs), 2) / 55.0;
+  EXPECT_NEAR(sg.read_double("rms"), std::sqrt(ms), 1e-12);
+}
+
+TEST_F(postproc_window, BadAngleWindowsNameTheOptionAndLeaveNoOutput) {
+  struct Case {
+    std::string args, message;
+  };
+  const std::vector<Case> cases = {
+      {"history " + signal() + " --angle-window 40000,40100", "expected the angle window"},
+      {"spectrum " + signal() + " --angle-window 450,330", "expected two finite angles FROM,TO"},
+      {"stats " + signal() + " --angle-window 330,450 --angle-period 100", "--angle-period 100"},
+      {"stats " + signal() + " --angle-window 330,450 --skip-cycles 2", "exclude each other"},
+      {"octave " + signal() + " --angle-window 330,450 --window-angle /rpm --angle-period 720",
+       "does not increase"},
+      {"history " + signal() + " --angle-window 330,450 --window-angle /nothing", "nothing"},
+  };
+  for (const Case& c : cases) {
+    const CliRun r = run(c.args + " -o " + out());
+    EXPECT_EQ(r.exit_code, 1) << c.args << "\n" << r.output;
+    EXPECT_NE(r.output.find(c.message), std::string::npos) << c.args << "\n" << r.output;
+    EXPECT_TRUE(only_results_left()) << c.args;
+  }
+}
