@@ -61,6 +61,9 @@ HH = 0.0080  # m, section height (in plane, y)
 EE = 0.20e12  # Pa
 RHO = 7870.0  # kg/m^3
 PI = math.pi
+# RESMBS's own pi (PARAMETER PI = 3.1415927D0, 8 digits) in its matrices and vectors: the model is the test
+# set's, so its constants use it; the shape functions' values at the points and the quadrature checks use pi.
+PI_TESTSET = 3.1415927
 
 
 def assumed_mode_model(consistent_mass=False):
@@ -69,18 +72,18 @@ def assumed_mode_model(consistent_mass=False):
     m = RHO * BB * HH * L2
     fack = EE * BB * HH / L2
     kq = np.zeros((4, 4))
-    kq[0, 0] = fack * PI**4 / 24.0 * (HH / L2) ** 2
-    kq[1, 1] = fack * PI**4 * 2.0 / 3.0 * (HH / L2) ** 2
+    kq[0, 0] = fack * PI_TESTSET**4 / 24.0 * (HH / L2) ** 2
+    kq[1, 1] = fack * PI_TESTSET**4 * 2.0 / 3.0 * (HH / L2) ** 2
     kq[2:, 2:] = fack * np.array([[16.0 / 3.0, -8.0 / 3.0], [-8.0 / 3.0, 7.0 / 3.0]])
     # Shape-function integrals (xi in [0, 1]); N_u: longitudinal rows, N_v: lateral rows.
     int_nu = np.array([0, 0, 2.0 / 3.0, 1.0 / 6.0])  # c1 / FACB
-    int_nv = np.array([2.0 / PI, 0, 0, 0])  # c2 / FACB
+    int_nv = np.array([2.0 / PI_TESTSET, 0, 0, 0])  # c2 / FACB
     int_xi_nu = np.array([0, 0, 1.0 / 3.0, 1.0 / 6.0])  # c12 / (L FACB)
-    int_xi_nv = np.array([1.0 / PI, -0.5 / PI, 0, 0])  # c21 / (L FACB)
+    int_xi_nv = np.array([1.0 / PI_TESTSET, -0.5 / PI_TESTSET, 0, 0])  # c21 / (L FACB)
     int_nu_nv = np.zeros((4, 4))  # [i, j] = int N_u,i N_v,j dxi
-    int_nu_nv[2, 0] = 16.0 / PI**3
-    int_nu_nv[3, 0] = 1.0 / PI - 8.0 / PI**3
-    int_nu_nv[3, 1] = -0.5 / PI
+    int_nu_nv[2, 0] = 16.0 / PI_TESTSET**3
+    int_nu_nv[3, 0] = 1.0 / PI_TESTSET - 8.0 / PI_TESTSET**3
+    int_nu_nv[3, 1] = -0.5 / PI_TESTSET
     int_nv_nv = np.diag([0.5, 0.5, 0, 0])
     int_nu_nu = np.zeros((4, 4))
     int_nu_nu[2:, 2:] = np.array([[8.0, 1.0], [1.0, 2.0]])  # the test set's (15 x the consistent 1/15 [[8,1],[1,2]])

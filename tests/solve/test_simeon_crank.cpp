@@ -6,8 +6,9 @@
 // (MEBDFI, rtol = atol = 1e-14) as shipped in the R package deTestSet: repository rforge/bvpsolve, file
 // pkg/deTestSet/src/Ex_crank.f, for the package's default variant (ini = 1, linear stiffness, no damping).
 // An independent SciPy integration of the same published equations (testdata/scenes/simeon_crank_scipy.py,
-// Radau, rtol 1e-10) agrees with it to 4.2e-9 in phi2 and 4.1e-10 m in x3. Tolerances and measured errors:
-// docs/verification.md, "Simeon's flexible slider crank".
+// Radau, rtol 1e-10) agrees with it to 4.2e-9 in phi2 and 4.1e-10 m in x3. The rod's constants use the test
+// set's pi = 3.1415927 (with the exact pi the elastic coordinates differ by 5e-11 m). Tolerances and measured
+// errors: docs/verification.md, "Simeon's flexible slider crank".
 #include <gtest/gtest.h>
 
 #include <array>
@@ -143,7 +144,8 @@ TEST(SimeonSliderCrank, RodFileHoldsTheTestSetsMatrices) {
   Eigen::Matrix4d mq_ref, kq_ref;
   mq_ref << 0.5, 0, 0, 0, 0, 0.5, 0, 0, 0, 0, 8, 1, 0, 0, 1, 2;
   mq_ref *= facm;
-  const double pi4 = std::pow(kPi, 4), r2 = (hh / l2) * (hh / l2);
+  const double pi4 = std::pow(3.1415927, 4),  // RESMBS's PARAMETER PI = 3.1415927D0
+      r2 = (hh / l2) * (hh / l2);
   kq_ref << pi4 / 24 * r2, 0, 0, 0, 0, pi4 * 2 / 3 * r2, 0, 0, 0, 0, 16.0 / 3, -8.0 / 3, 0, 0, -8.0 / 3,
       7.0 / 3;
   kq_ref *= fack;
@@ -157,10 +159,10 @@ TEST(SimeonSliderCrank, RodFileHoldsTheTestSetsMatrices) {
 // IDA (rtol 1e-10) against the reference at t = 0.1 s. Tolerances (docs/verification.md): the published
 // initial values have 9 digits and leave g2 = x3 - L1 cos phi1 - (L2 + q4) cos phi2 at 2.03e-10 m, which the
 // reference's index-2 integration keeps to the end; the scene starts consistent (x3 = L1 + L2 + q4), so x3
-// differs by that offset: positions 1e-9 (measured 2.0e-10 m in x3, 1.4e-11 rad in phi2). The rest is our
-// integration error, measured as the spread over rtol 1e-9, 1e-10, 1e-11: q within 1e-10 m (5.4e-11),
-// phi2', x3' within 2e-6 (7.0e-7), q' within 1.5e-6 m/s (6.1e-7 against |q'| up to 3e-2), the
-// multipliers within 1e-6 of their size (measured below 3e-7).
+// differs by that offset: positions 1e-9 (measured 1.8e-10 m in x3, 2.6e-11 rad in phi2). The rest is IDA's
+// global error, measured as the largest over rtol 1e-9, 1e-10, 1e-11 (it is not monotone in rtol; 1e-11 meets
+// SciPy's 3e-9): q within 5e-11 m (1.8e-11), phi2', x3' and q' within 1.5e-6 (6.3e-7, 5.5e-7 m/s), the
+// multipliers within 1e-5 of their size (3.2e-6).
 TEST(SimeonSliderCrank, IdaMatchesTheTestSetReferenceAtT01) {
   const CrankState s = run_crank("[integrator]\nrtol = 1e-10\natol = 1e-13\n", "ida");
   ASSERT_EQ(s.time, 0.1);
@@ -178,14 +180,14 @@ TEST(SimeonSliderCrank, IdaMatchesTheTestSetReferenceAtT01) {
       std::abs(s.y[8] - kReference[8]), std::abs(s.y[9] - kReference[9]), e.elastic_rate,
       std::abs(s.lambda[0] / kReference[21] - 1), std::abs(s.lambda[1] / kReference[22] - 1),
       std::abs(s.lambda[2] / kReference[23] - 1), s.steps);
-  EXPECT_NEAR(s.y[0], kReference[0], 1e-10);  // phi1 = omega t
-  EXPECT_NEAR(s.y[7], kReference[7], 1e-10);
+  EXPECT_NEAR(s.y[0], kReference[0], 1e-9);  // phi1 = omega t
+  EXPECT_NEAR(s.y[7], kReference[7], 1e-9);
   EXPECT_LT(e.position, 1e-9);
-  EXPECT_LT(e.elastic, 1e-10);
-  EXPECT_LT(e.velocity, 2e-6);
+  EXPECT_LT(e.elastic, 5e-11);
+  EXPECT_LT(e.velocity, 1.5e-6);
   EXPECT_LT(e.elastic_rate, 1.5e-6);
   for (int k = 0; k < 3; ++k)
-    EXPECT_NEAR(s.lambda[k], kReference[21 + k], 1e-6 * std::abs(kReference[21 + k])) << "lambda" << k + 1;
+    EXPECT_NEAR(s.lambda[k], kReference[21 + k], 1e-5 * std::abs(kReference[21 + k])) << "lambda" << k + 1;
 }
 
 // Generalized-alpha (fixed step, rho_inf 0.8, Newton to rtol 1e-10, atol 1e-11; atol 1e-13 fails its first
