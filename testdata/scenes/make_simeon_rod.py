@@ -86,7 +86,8 @@ def assumed_mode_model(consistent_mass=False):
     int_nu_nv[3, 1] = -0.5 / PI_TESTSET
     int_nv_nv = np.diag([0.5, 0.5, 0, 0])
     int_nu_nu = np.zeros((4, 4))
-    int_nu_nu[2:, 2:] = np.array([[8.0, 1.0], [1.0, 2.0]])  # the test set's (15 x the consistent 1/15 [[8,1],[1,2]])
+    # The test set's block: 15 x the consistent 1/15 [[8, 1], [1, 2]].
+    int_nu_nu[2:, 2:] = np.array([[8.0, 1.0], [1.0, 2.0]])
     if consistent_mass:
         int_nu_nu /= 15.0
     mq = m * (int_nu_nu + int_nv_nv)
@@ -243,7 +244,8 @@ def main():
     p.add_argument("--print-initial", action="store_true",
                    help="print the test set's initial q, q' (deTestSet ini = 1) as modal coordinates eta")
     p.add_argument("--consistent-mass", action="store_true",
-                   help="the consistent longitudinal mass (1/15 of the test set's block): not the test set's model")
+                   help="the consistent longitudinal mass (1/15 of the test set's block): "
+                   "not the test set's model")
     args = p.parse_args()
     b = write(args.output, args.consistent_mass)
     if args.print_initial:

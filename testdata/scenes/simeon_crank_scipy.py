@@ -149,7 +149,8 @@ def main():
     names = ["phi1", "phi2", "x3", "q1", "q2", "q3", "q4"]
     names = names + ["v" + n for n in names] + ["a" + n for n in names] + ["lambda1", "lambda2", "lambda3"]
     print(f"# Radau rtol = atol = {args.rtol:g}, stiff = {args.stiff}, damp = {args.damp}: "
-          f"consistent = {args.consistent}: {sol.t.size - 1} steps, {sol.nfev} f evaluations; max |g| = {drift:.2e}")
+          f"consistent = {args.consistent}: {sol.t.size - 1} steps, {sol.nfev} f evaluations; "
+          f"max |g| = {drift:.2e}")
     print(f"# {'name':8s} {'scipy':>24s} {'reference':>24s} {'difference':>10s} {'relative':>10s}")
     for k in range(24):
         d = y[k] - REFERENCE[k]
