@@ -6,7 +6,9 @@
 #   (c) the valvetrain (testdata/valvetrain/valvetrain.toml, rigid rocker, one cam revolution), the valve's lift;
 #   (d) piston slap with the lubricated skirt (testdata/slap/slap_film.toml, one 720 deg cycle), the pin's lateral
 #       position;
-#   (e) the car axis of the IVP test set (testdata/scenes/car_axis.toml), the left wheel's position.
+#   (e) the car axis of the IVP test set (testdata/scenes/car_axis.toml), the left wheel's position;
+#   (f) Simeon's flexible slider crank of the IVP test set (testdata/scenes/slider_crank_simeon.toml), the
+#       slider's position.
 # Error: max |s - s_ref| over the samples / the signal's range, the reference IDA at a tight tolerance.
 # Writes CSV and PNG per scene to OUT (default out/bench/work_precision); REDO=1 reruns existing CSVs.
 # Usage: bench/run_work_precision_all.sh [OUT]     (BUILD=build by default; about 15-30 min on 2 cores)
@@ -47,4 +49,8 @@ REF=(1e-9 1e-8); run valvetrain_1_cam_rev_ref_1e-9 "$OUT/valvetrain/valvetrain.t
 REF=(1e-9 1e-8); run slap_film_720deg_ref_1e-9 testdata/slap/slap_film.toml markers/piston.pin/position 0
 # (e) the car axis.
 REF=(1e-11 1e-10); run car_axis testdata/scenes/car_axis.toml bodies/left/position 1
+# (f) Simeon's slider crank: its rod written beside a copy of the scene (rtol 1e-12 fails: IDA_CONV_FAIL).
+cp testdata/scenes/slider_crank_simeon.toml "$OUT/"
+[ -s "$OUT/simeon_rod.h5" ] || /usr/bin/python3 testdata/scenes/make_simeon_rod.py -o "$OUT/simeon_rod.h5"
+REF=(1e-11 1e-10); run slider_crank_simeon "$OUT/slider_crank_simeon.toml" bodies/slider/position 0
 echo "charts: $OUT/*.png"

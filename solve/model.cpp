@@ -1125,12 +1125,12 @@ Vec3 Model::marker_acceleration(const MarkerRef& m, const double* y, const doubl
   return j0.jv * wdot + (jp.jv - jm.jv) * wv / (2 * h);
 }
 
-void Model::reaction(int ci, const double* y, Vec3& force, Vec3& torque) const {
+void Model::reaction(int ci, double t, const double* y, Vec3& force, Vec3& torque) const {
   // The reaction on body i is -C_i^T lambda = -J_i^T D_i^T lambda: the wrench -D_i^T lambda at marker i.
   const auto& c = constraints[ci];
   const MarkerMotion mi = marker_motion(c.i, y), mj = marker_motion(c.j, y);
   ConstraintEquations eq(c.constraint->size());
-  c.constraint->evaluate(0.0, mi, mj, eq);
+  c.constraint->evaluate(t, mi, mj, eq);  // at t: a speed driver's D_i turns with theta(t)
   Eigen::VectorXd lambda(c.constraint->size());
   for (int e = 0; e < c.constraint->size(); ++e)
     lambda[e] = c.active[e] ? y[lambda_offset_ + c.first_row + e] : 0.0;

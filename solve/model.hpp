@@ -140,8 +140,9 @@ class Model {
   /// The input an element sees at (t, y, y'); `markers` is filled (sized by the caller or here).
   ElementInput element_input(const ForceEntry& f, double t, const double* y, const double* yp,
                              std::vector<MarkerMotion>& markers) const;
-  /// Reaction force and torque (global) on body i of a constraint, at marker i.
-  void reaction(int c, const double* y, Vec3& force, Vec3& torque) const;
+  /// Reaction force and torque (global) on body i of a constraint, at marker i, at time t (a driver's
+  /// equation depends on it).
+  void reaction(int c, double t, const double* y, Vec3& force, Vec3& torque) const;
   double crank_angle(const double* y) const { return clock_index_ >= 0 ? y[clock_index_] : 0.0; }
   double total_kinetic_energy(const double* y) const;
   EnergyBalance energy(double t, const double* y, const double* yp) const;

@@ -220,7 +220,7 @@ void ResultsWriter::add_sample(double t, const Scene& scene, const Eigen::Vector
   if (scene.output.joints)
     for (std::size_t c = 0; c < m.constraints.size(); ++c) {
       Vec3 force, torque;
-      m.reaction(static_cast<int>(c), y.data(), force, torque);
+      m.reaction(static_cast<int>(c), t, y.data(), force, torque);
       put(force);
       put(torque);
     }
