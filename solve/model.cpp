@@ -618,15 +618,26 @@ void Model::jacobian(double t, const double* y, const double* yp, double cj,
     std::vector<MarkerDerivatives>& md = w.force_markers[fi];
     for (int k = 0; k < nm; ++k) derivatives(fe.markers[k], md[k]);
     const int z0 = fe.state_offset, crank_col = 12 * nm + ns;
+    // -(sum over the markers k of one body of G_k^T dW_k/d(motion_l)) d(motion_l)/dy: the markers' wrench
+    // derivatives are summed per body before the chain rule through marker l, so an element with many
+    // markers on one flexible body (the EHL liner's ~170) costs one product per (body, l), not per (k, l).
     for (int k = 0; k < nm; ++k) {
       if (md[k].nw == 0) continue;
-      // -(G_k^T dW_k/d(motion_l)) d(motion_l)/dy
+      bool first_of_body = true;
+      for (int k2 = 0; k2 < k && first_of_body; ++k2) first_of_body = md[k2].body != md[k].body;
+      if (!first_of_body) continue;
       for (int l = 0; l < nm; ++l) {
         if (md[l].nq + md[l].nw == 0) continue;
         auto gw = w.gw.topRows(md[k].nw);
         gw.noalias() = -md[k].g.transpose() * e.block(6 * k, 12 * l, 6, 12);
+        for (int k2 = k + 1; k2 < nm; ++k2)
+          if (md[k2].body == md[k].body)
+            gw.noalias() -= md[k2].g.transpose() * e.block(6 * k2, 12 * l, 6, 12);
         add_motion(md[k].w0, gw, md[l]);
       }
+    }
+    for (int k = 0; k < nm; ++k) {
+      if (md[k].nw == 0) continue;
       if (ns > 0) add_to_dynamics(md[k], -1.0, e.block(6 * k, 12 * nm, 6, ns), z0);
       if (clock_index_ >= 0 && fe.element->uses_crank_angle())
         add_to_dynamics(md[k], -1.0, e.block(6 * k, crank_col, 6, 1), clock_index_);
