@@ -417,12 +417,12 @@ def main_bearings(lines, kind, crank, block):
 # crank's bounce on them); no axial, tilt or spin stiffness""")
     for b in range(5):
         n = b + 1
-        if kind == "short":
+        if kind in ("short", "finite"):
             lines.append(f"""
 [[force]]
 name = "main{n}"
 type = "journal-bearing"
-model = "short"
+model = "{kind}"
 i = "{crank}.journal{n}"
 j = "{block}.shell{n}"
 diameter = {JB['diameter']}
@@ -430,26 +430,15 @@ width = {JB['width']}
 radial_clearance = {JB['radial_clearance']}
 viscosity = {JB['viscosity']}
 """)
-        elif kind == "finite":
-            lines.append(f"""
-[[force]]
-name = "main{n}"
-type = "journal-bearing"
-model = "finite"
-i = "{crank}.journal{n}"
-j = "{block}.shell{n}"
-diameter = {JB['diameter']}
-width = {JB['width']}
-radial_clearance = {JB['radial_clearance']}
-viscosity = {JB['viscosity']}
-supply_pressure = {FINITE_SUPPLY:g}
+        if kind == "finite":
+            lines[-1] += f"""supply_pressure = {FINITE_SUPPLY:g}
 cavitation = "jfo"
 grid = [{FINITE_GRID[0]}, {FINITE_GRID[1]}]
   [[force.hole]]
   angle_deg = {FINITE_HOLE_DEG:g}
   diameter = 0.005
-""")
-        else:
+"""
+        if kind == "bushing":
             lines.append(f"""
 [[force]]
 name = "main{n}"
