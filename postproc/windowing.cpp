@@ -20,9 +20,7 @@ void apply_angle_window(SignalSource& signal, const SampleRange& range, const An
   if (window.skip_cycles > 0)
     throw Error("--angle-window and --skip-cycles exclude each other; expected one of them");
   const SignalInfo& info = signal.info();
-  std::string address = window.angle_address;
-  if (!address.empty() && address[0] == '/') address = info.file.string() + ":" + address;
-  SignalSource angle = SignalSource::open(address);
+  SignalSource angle = SignalSource::open(window_angle_address(info, window));
   if (angle.size() != signal.file_size() ||
       std::abs(angle.info().sample_rate_hz - info.sample_rate_hz) > 1e-9 * info.sample_rate_hz) {
     std::ostringstream msg;
@@ -57,6 +55,11 @@ void apply_angle_window(SignalSource& signal, const SampleRange& range, const An
 }
 
 }  // namespace
+
+std::string window_angle_address(const SignalInfo& signal, const AnalysisWindow& window) {
+  const std::string& address = window.angle_address;
+  return !address.empty() && address[0] == '/' ? signal.file.string() + ":" + address : address;
+}
 
 /// Restrict `signal` to the analysis window: --start/--end, then --skip-cycles with the shaft angle
 /// (`angle` may be null when the subcommand has none) or --angle-window. No-op without a window.

@@ -3,6 +3,7 @@
 // --skip-cycles with the shaft angle; the cycles of an order analysis inside the window; and the window's
 // description added to the error of an analysis the window made too short.
 #include <cstdint>
+#include <string>
 
 #include "common/error.hpp"
 #include "common/log.hpp"
@@ -17,6 +18,10 @@ namespace nvh::postproc {
 /// (`angle` may be null when the subcommand has none). No-op without a window.
 void apply_window(SignalSource& signal, const AnalysisWindow& window, const AngleSource* angle,
                   double cycle_deg, std::int64_t block, const Logger& log);
+
+/// The address of --window-angle for `signal`: a dataset path (starting with '/') is looked for in the
+/// signal's own file ("FILE:/path"), a full address is taken as it is.
+std::string window_angle_address(const SignalInfo& signal, const AnalysisWindow& window);
 
 /// The cycles of `all` (tracked over the samples of `read`, a window with margins) lying wholly inside the
 /// samples `window` of `read`; start times shifted to count from the file's first sample.

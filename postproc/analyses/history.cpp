@@ -19,14 +19,10 @@ namespace {
 /// for it.
 Eigen::VectorXd angle_at_samples(const SignalSource& signal, const AnalysisWindow& window) {
   const SignalInfo& info = signal.info();
-  std::string address = window.angle_address;
-  if (!address.empty() && address[0] == '/') {
-    if (info.file.empty()) return {};
-    address = info.file.string() + ":" + address;
-  }
+  if (!window.angle_address.empty() && window.angle_address[0] == '/' && info.file.empty()) return {};
   std::optional<SignalSource> angle;
   try {
-    angle.emplace(SignalSource::open(address));
+    angle.emplace(SignalSource::open(window_angle_address(info, window)));
   } catch (const Error&) {
     if (window.angle_active()) throw;
     return {};  // a signal without a shaft angle: time only
