@@ -5,7 +5,8 @@
 // solution. Cold: it forgets it (reset) before every call. The short bearing (closed form) is the yardstick:
 // the ratio column says how many short-bearing evaluations one finite evaluation costs.
 //
-//   build-bearing/bench/bench_bearing_evaluations [seconds per case, default 2]
+//   build/bench/bench_bearing_evaluations [seconds per case, default 2] [AROUNDxACROSS ...: the finite grids,
+//                                                                     default 60x20 180x40]
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -13,6 +14,8 @@
 #include <cstdlib>
 #include <ctime>
 #include <numbers>
+#include <utility>
+#include <vector>
 
 #include "solve/bearing/finite_bearing.hpp"
 #include "solve/bearing/short_bearing.hpp"
@@ -76,7 +79,14 @@ int main(int argc, char** argv) {
               "cost/short");
   std::printf("%-44s %12.0f %12.4f %12.0f %10.0f\n", "short (Ocvirk, closed form)", short_rate.cpu,
               1e3 / short_rate.cpu, short_rate.wall, 1.0);
-  for (auto [around, across] : {std::pair{60, 20}, std::pair{180, 40}}) {
+  std::vector<std::pair<int, int>> grids;
+  for (int a = 2; a < argc; ++a) {
+    int around = 0, across = 0;
+    if (std::sscanf(argv[a], "%dx%d", &around, &across) == 2 && around > 2 && across > 0)
+      grids.emplace_back(around, across);
+  }
+  if (grids.empty()) grids = {{60, 20}, {180, 40}};
+  for (auto [around, across] : grids) {
     for (bool warm : {true, false}) {
       FiniteBearing b(spec(Model::kFinite, around, across));
       int iterations = 0, calls = 0;

@@ -89,6 +89,7 @@ void FilmSolver::check_problem() const {
   if (f.nx < 1 || f.nz < 1 || !(f.dx > 0) || !(f.dz > 0)) bad("the grid needs nx, nz >= 1 and dx, dz > 0");
   if (f.periodic_x && f.nx < 3) bad("periodic_x needs nx >= 3");
   if (f.periodic_z && (f.z_edges || f.nz < 3)) bad("periodic_z needs nz >= 3 and no z_edges");
+  if (f.mirror_north && (!f.z_edges || f.periodic_z)) bad("mirror_north needs z_edges and no periodic_z");
   if (f.supply.size() != n) bad("'supply' needs nx nz entries");
   auto sized = [&](const std::vector<double>& cells, const std::vector<double>& columns, const char* name) {
     if (cells.empty() ? columns.size() != nx : cells.size() != n)
@@ -239,8 +240,8 @@ void FilmSolver::assemble(const Eigen::VectorXd& P, const Eigen::VectorXd& r, bo
           a.JP[nn][kSouth] -= dFs, a.JP[nn][kSelf] -= dFn;
         }
       }
-      if (f.z_edges && (k == 0 || k == nz - 1)) {
-        const int edges = nz == 1 ? 2 : 1;
+      if (f.z_edges && (k == 0 || (k == nz - 1 && !f.mirror_north))) {
+        const int edges = nz == 1 && !f.mirror_north ? 2 : 1;
         const double g = H3 * fluidity(P[s]);
         const double F = edges * g * P[s] / (0.5 * dz) * dx;
         a.M[s] += F;

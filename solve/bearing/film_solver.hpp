@@ -46,6 +46,10 @@ struct FiniteSolverOptions {
   /// Newton steps in the active-set form min(p, r) = 0 before Fischer-Burmeister takes over.
   int active_set_iterations = 12;
   bool jacobian = true;  ///< finite bearing: compute d(force)/d(e, de/dt)
+  /// Finite bearing: solve one half of the width when the bearing is symmetric about its mid-plane (an even
+  /// number of cells across and feed holes and grooves that mirror onto themselves). The discrete solution
+  /// is the same (it is symmetric); the Newton system has half the unknowns. Off: the whole grid, always.
+  bool mirror_symmetry = true;
   /// Simplified Newton across calls: while the cells keep their primary unknowns (the same active set) and
   /// the steps contract by at least `chord_contraction`, a step reuses the factorization of an earlier state
   /// instead of refactorizing (the residual is always the current one, so the solution is the same to the
@@ -63,6 +67,9 @@ struct FilmProblem {
   double dx = 0, dz = 1;
   bool periodic_x = true;    ///< journal: column nx - 1 joins column 0; else boundary faces at both ends
   bool z_edges = true;       ///< P = 0 half a cell beyond rows 0 and nz - 1 (side leakage)
+  /// With z_edges: the north edge of row nz - 1 is a plane of symmetry instead (no flux through it), so the
+  /// grid is one half of a film symmetric about its mid-plane and only row 0 leaks (finite_bearing.hpp).
+  bool mirror_north = false;
   bool periodic_z = false;   ///< row nz - 1 joins row 0 (needs nz >= 3 and no z_edges)
   std::vector<char> supply;  ///< per cell: held at supply_p with r = 0
   Cavitation cavitation = Cavitation::kJfo;

@@ -23,7 +23,6 @@ FiniteBearing::FiniteBearing(BearingSpec spec, FiniteSolverOptions options)
   validate(spec_);
   nt_ = spec_.cells_around;
   nz_ = spec_.cells_across;
-  n_ = nt_ * nz_;
   dtheta_ = 2 * kPi / nt_;
   dz_ = spec_.width / spec_.radius() / nz_;
   cos_c_.resize(nt_), sin_c_.resize(nt_), cos_f_.resize(nt_), sin_f_.resize(nt_);
@@ -32,20 +31,30 @@ FiniteBearing::FiniteBearing(BearingSpec spec, FiniteSolverOptions options)
     cos_f_[i] = std::cos((i + 1.0) * dtheta_), sin_f_[i] = std::sin((i + 1.0) * dtheta_);
   }
   FilmProblem& f = film_.problem;
-  f.nx = nt_, f.nz = nz_, f.dx = dtheta_, f.dz = dz_;
   f.periodic_x = true;
   f.z_edges = true;
   f.cavitation = spec_.cavitation;
-  mark_supply_cells();
+  // The grid of the whole width; then, if it mirrors onto itself about the mid-plane, its half z < 0 with
+  // a symmetry edge at the mid-plane: rows_ = nz_ / 2, and every sum over the cells counts twice.
+  const std::vector<char> whole = supply_cells_of_whole_grid();
+  bool symmetric = options_.mirror_symmetry && nz_ % 2 == 0;
+  for (int k = 0; k < nz_ / 2 && symmetric; ++k)
+    for (int i = 0; i < nt_ && symmetric; ++i)
+      symmetric = whole[i + nt_ * k] == whole[i + nt_ * (nz_ - 1 - k)];
+  rows_ = symmetric ? nz_ / 2 : nz_;
+  weight_ = symmetric ? 2.0 : 1.0;
+  n_ = nt_ * rows_;
+  f.nx = nt_, f.nz = rows_, f.dx = dtheta_, f.dz = dz_;
+  f.mirror_north = symmetric;
+  f.supply.assign(whole.begin(), whole.begin() + n_);
   P_ = Eigen::VectorXd::Zero(n_);
   r_ = Eigen::VectorXd::Zero(n_);
 }
 
 // A cell is a supply cell if its centre lies in a hole or groove; a feature narrower than a cell takes
 // the nearest cells so that it is never lost on a coarse grid.
-void FiniteBearing::mark_supply_cells() {
-  std::vector<char>& supply = film_.problem.supply;
-  supply.assign(n_, 0);
+std::vector<char> FiniteBearing::supply_cells_of_whole_grid() const {
+  std::vector<char> supply(static_cast<std::size_t>(nt_) * nz_, 0);
   const double R = spec_.radius(), L = spec_.width;
   auto theta_of = [&](int i) { return (i + 0.5) * dtheta_; };
   auto z_of = [&](int k) { return -0.5 * L + (k + 0.5) * L / nz_; };
@@ -91,6 +100,7 @@ void FiniteBearing::mark_supply_cells() {
     for (int k : rows)
       for (int i : cols) supply[i + nt_ * k] = 1;
   }
+  return supply;
 }
 
 // Nondimensional variables: H = h/c, Z = z/R, P = p / p_ref with p_ref = 12 mu0 R^2 omega_ref / c^2, time
@@ -223,7 +233,7 @@ FilmResult FiniteBearing::post_process(const Kinematics& k, const FilmAssembly* 
   set_min_film(spec_, k, r);
   const double Uj = R * k.omega_journal, Us = R * k.omega_shell;
   int m_max = 0;
-  for (int kz = 0; kz < nz_; ++kz) {
+  for (int kz = 0; kz < rows_; ++kz) {
     for (int i = 0; i < nt_; ++i) {
       const int m = i + nt_ * kz;
       const double p = p_ref_ * P_[m];
@@ -239,6 +249,8 @@ FilmResult FiniteBearing::post_process(const Kinematics& k, const FilmAssembly* 
       if (a && f.supply[m]) r.feed_flow += flow_scale * a->M[m];
     }
   }
+  // The half grid of a symmetric bearing: the other half's equal share.
+  r.force *= weight_, r.torque_journal *= weight_, r.torque_shell *= weight_, r.feed_flow *= weight_;
   // Peak pressure: parabola through the highest cell and its two circumferential neighbours.
   const double pc = P_[m_max], pe = P_[film_.neighbours(m_max)[FilmSolver::kEast]],
                pw = P_[film_.neighbours(m_max)[FilmSolver::kWest]];
@@ -247,7 +259,7 @@ FilmResult FiniteBearing::post_process(const Kinematics& k, const FilmAssembly* 
   shift = std::clamp(shift, -0.5, 0.5);
   r.max_pressure = p_ref_ * (pc - 0.125 * (pe - pw) * (pe - pw) / (curv < 0 ? curv : -1e300));
   r.max_pressure_angle = wrap(((m_max % nt_) + 0.5 + shift) * dtheta_);
-  r.side_flow = a ? flow_scale * a->side_flow : 0.0;
+  r.side_flow = a ? weight_ * flow_scale * a->side_flow : 0.0;
   r.power_loss =
       -(r.torque_journal * k.omega_journal + r.torque_shell * k.omega_shell + r.force.dot(k.e_dot));
   return r;
@@ -269,7 +281,7 @@ void FiniteBearing::parameter_jacobian(const FilmAssembly& a, FilmResult& result
   const double area = dtheta_ * dz_;
   for (int q = 0; q < kParameters; ++q) {
     Eigen::VectorXd dM = Eigen::VectorXd::Zero(n_);
-    for (int k = 0; k < nz_; ++k) {
+    for (int k = 0; k < rows_; ++k) {
       const int row = nt_ * k;
       for (int i = 0; i < nt_; ++i) {
         if (q == 4) {  // mean speed: the wedge (Couette) flux through each east face, d(couette)/d(wm) = 1/omega_ref
@@ -292,15 +304,15 @@ void FiniteBearing::parameter_jacobian(const FilmAssembly& a, FilmResult& result
           dM[e] -= dF;
           const int s = row + i;
           const double Hc = f.h_centre[i];
-          if (k + 1 < nz_) {
+          if (k + 1 < rows_) {
             const int n = s + nt_;
             const double gz = 3 * Hc * Hc * dHc * 0.5 * (fluidity(P_[s]) + fluidity(P_[n]));
             const double F = -gz * (P_[n] - P_[s]) / dz_ * dtheta_;
             dM[s] += F;
             dM[n] -= F;
           }
-          if (k == 0 || k == nz_ - 1) {
-            const int edges = nz_ == 1 ? 2 : 1;
+          if (k == 0 || (k == rows_ - 1 && !f.mirror_north)) {
+            const int edges = rows_ == 1 && !f.mirror_north ? 2 : 1;
             dM[s] += edges * 3 * Hc * Hc * dHc * fluidity(P_[s]) * P_[s] / (0.5 * dz_) * dtheta_;
           }
         } else {  // velocity: the squeeze term, dHdot/de_dot = -n / (c omega_ref)
@@ -325,7 +337,7 @@ void FiniteBearing::parameter_jacobian(const FilmAssembly& a, FilmResult& result
       dP_dq_(m, q) = dP;
       dr_dq_(m, q) = a.primary_is_p[m] ? -a.ap[m] / a.ar[m] * y[m] : y[m];
       const int i = m % nt_;
-      dF -= p_ref_ * dP * R * R * area * Eigen::Vector2d(cos_c_[i], sin_c_[i]);
+      dF -= weight_ * p_ref_ * dP * R * R * area * Eigen::Vector2d(cos_c_[i], sin_c_[i]);
     }
     if (q < 4) result.jacobian.col(q) = dF;
     result.full_jacobian.block<2, 1>(0, q < 4 ? q : 4) = dF;
@@ -342,7 +354,7 @@ void FiniteBearing::torque_jacobian(FilmResult& result) const {
   const double R = spec_.radius(), c = spec_.radial_clearance, mu0 = spec_.viscosity;
   const bool jfo = spec_.cavitation == Cavitation::kJfo;
   const FilmProblem& f = film_.problem;
-  const double dA = R * R * dtheta_ * dz_;
+  const double dA = weight_ * R * R * dtheta_ * dz_;  // the half grid of a symmetric bearing counts twice
   const double dU = R * (kinematics_of_solution_.omega_shell - kinematics_of_solution_.omega_journal);
   Eigen::Matrix<double, 1, 5> dT = Eigen::Matrix<double, 1, 5>::Zero();
   double shear_by_speed = 0;  // d/d(Us - Uj) of the Couette part, per unit of R
@@ -383,10 +395,14 @@ void FiniteBearing::predict(const Kinematics& k) {
   r_ = (r_ + dr_dq_ * dq).cwiseMax(0.0);
 }
 
+int FiniteBearing::cell(int i, int k) const {
+  return i + nt_ * (k < rows_ ? k : nz_ - 1 - k);  // the half grid's mirror image for k >= rows_
+}
+
 Eigen::MatrixXd FiniteBearing::pressure() const {
   Eigen::MatrixXd p(nt_, nz_);
   for (int k = 0; k < nz_; ++k)
-    for (int i = 0; i < nt_; ++i) p(i, k) = has_solution_ ? p_ref_of_solution_ * P_[i + nt_ * k] : 0.0;
+    for (int i = 0; i < nt_; ++i) p(i, k) = has_solution_ ? p_ref_of_solution_ * P_[cell(i, k)] : 0.0;
   return p;
 }
 
@@ -394,14 +410,14 @@ Eigen::MatrixXd FiniteBearing::fill_ratio() const {
   Eigen::MatrixXd f = Eigen::MatrixXd::Ones(nt_, nz_);
   if (spec_.cavitation == Cavitation::kJfo && has_solution_)
     for (int k = 0; k < nz_; ++k)
-      for (int i = 0; i < nt_; ++i) f(i, k) = 1 - r_[i + nt_ * k];
+      for (int i = 0; i < nt_; ++i) f(i, k) = 1 - r_[cell(i, k)];
   return f;
 }
 
 Eigen::MatrixXi FiniteBearing::supply_cells() const {
   Eigen::MatrixXi s(nt_, nz_);
   for (int k = 0; k < nz_; ++k)
-    for (int i = 0; i < nt_; ++i) s(i, k) = film_.problem.supply[i + nt_ * k];
+    for (int i = 0; i < nt_; ++i) s(i, k) = film_.problem.supply[cell(i, k)];
   return s;
 }
 

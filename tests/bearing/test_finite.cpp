@@ -280,6 +280,66 @@ TEST(bearing_finite, ReusedFactorizationsGiveTheSameFilmAlongAnOrbit) {
   EXPECT_LT(factorizations_chord, factorizations_full / 2);
 }
 
+// A bearing symmetric about its mid-plane is solved on the half z < 0 with a no-flux mid-plane
+// (FiniteSolverOptions::mirror_symmetry, on by default). The reference is the same bearing solved on the
+// whole grid: the discrete solution is symmetric, so both must agree to the Newton tolerance in the forces,
+// torques, flows, the whole Jacobian and the pressure and fill fields - in JFO with cavitation and squeeze,
+// Swift-Stieber, and Barus viscosity. A hole off the mid-plane must switch the half off (an asymmetric film).
+TEST(bearing_finite, SymmetricHalfGivesTheWholeGridsSolution) {
+  FiniteSolverOptions whole_grid;
+  whole_grid.mirror_symmetry = false;
+  double worst = 0, worst_jacobian = 0, worst_field = 0, worst_flow = 0;
+  for (int variant = 0; variant < 3; ++variant) {
+    BearingSpec spec = fed_bearing(variant == 1 ? Cavitation::kSwiftStieber : Cavitation::kJfo);
+    if (variant == 2) spec.barus = 2e-8;  // 1/Pa
+    FiniteBearing half(spec), whole(spec, whole_grid);
+    // States along an orbit at eps 0.3..0.85 (0.3..0.6 with Barus: beyond, its pressure has no bound),
+    // squeeze and wedge.
+    const double eps_max = variant == 2 ? 0.6 : 0.85;
+    for (int step = 0; step < 12; ++step) {
+      const double a = 0.5 * step, eps = 0.3 + (eps_max - 0.3) * step / 11.0;
+      Kinematics k;
+      k.e = eps * 40e-6 * Eigen::Vector2d(std::cos(a), std::sin(a));
+      k.e_dot = 40e-6 * 80.0 * Eigen::Vector2d(-std::sin(2 * a), std::cos(a));
+      k.omega_journal = 300, k.omega_shell = 15;
+      const FilmResult h = half.evaluate_with_jacobian(k), w = whole.evaluate_with_jacobian(k);
+      worst = std::max({worst, (h.force - w.force).norm() / w.force.norm(),
+                        std::abs(h.torque_journal - w.torque_journal) / std::abs(w.torque_journal),
+                        std::abs(h.torque_shell - w.torque_shell) / std::abs(w.torque_shell),
+                        std::abs(h.max_pressure - w.max_pressure) / w.max_pressure});
+      // (the side flow is 0 where the edges cavitate, the feed flow changes sign: the larger as the scale)
+      const double flow = std::max(std::abs(w.side_flow), std::abs(w.feed_flow));
+      worst_flow = std::max({worst_flow, std::abs(h.side_flow - w.side_flow) / flow,
+                             std::abs(h.feed_flow - w.feed_flow) / flow});
+      worst_jacobian =
+          std::max(worst_jacobian, (h.full_jacobian - w.full_jacobian).norm() / w.full_jacobian.norm());
+      const Eigen::MatrixXd ph = half.pressure(), pw = whole.pressure();
+      ASSERT_EQ(ph.rows(), pw.rows());
+      ASSERT_EQ(ph.cols(), pw.cols());
+      worst_field = std::max({worst_field, (ph - pw).cwiseAbs().maxCoeff() / pw.maxCoeff(),
+                              (half.fill_ratio() - whole.fill_ratio()).cwiseAbs().maxCoeff()});
+    }
+  }
+  std::printf(
+      "measured: symmetric half against the whole grid (3 films x 12 states): forces, torques, peak "
+      "%.2e, flows %.2e, Jacobian %.2e, fields %.2e\n",
+      worst, worst_flow, worst_jacobian, worst_field);
+  EXPECT_LT(worst, 1e-7);  // the Newton tolerance 1e-9 of the peak pressure, summed over the film
+  EXPECT_LT(worst_flow, 1e-7);
+  EXPECT_LT(worst_jacobian, 1e-6);
+  EXPECT_LT(worst_field, 1e-7);
+
+  BearingSpec off = fed_bearing(Cavitation::kJfo);
+  off.holes[0].axial_position = 0.25 * off.width;  // off the mid-plane: no symmetry
+  FiniteBearing b(off);
+  Kinematics k;
+  k.e = {0.1 * 40e-6, -0.7 * 40e-6};
+  k.omega_journal = 300;
+  b.evaluate(k);
+  const Eigen::MatrixXd p = b.pressure();
+  EXPECT_GT((p - p.rowwise().reverse()).cwiseAbs().maxCoeff(), 1e-2 * p.maxCoeff());
+}
+
 TEST(bearing_finite, WarmStartGivesTheColdSolution) {
   FiniteBearing warm(fed_bearing(Cavitation::kJfo));
   Kinematics k;
