@@ -47,6 +47,10 @@ target_link_libraries(nvh_gmsh INTERFACE ${GMSH_LIBRARY})
 find_package(SUNDIALS 6.4 REQUIRED CONFIG
              COMPONENTS ida nvecserial sunmatrixdense sunmatrixsparse sunlinsoldense sunlinsolklu)
 
+# LAPACK (solve's dense LU of IDA's Newton matrix, solve/newton_matrix_solver.cpp): Debian's liblapack-dev,
+# which libopenblas0-serial serves through the liblapack.so.3 alternative (OpenBLAS's blocked dgetrf).
+find_package(LAPACK REQUIRED)
+
 # FFTW (postproc's spectra): pkg-config only.
 pkg_check_modules(FFTW3 REQUIRED IMPORTED_TARGET fftw3)
 

@@ -111,6 +111,7 @@ class GeneralizedAlpha final : public Integrator {
     s.last_order = 2;
     s.residual_evaluations += jacobian_.residual_evaluations();
     s.cpu_factorization_s = std::max(0.0, cpu_total_ - s.cpu_residual_s - s.cpu_jacobian_s);
+    s.linear_solver = "sparse-lu";
     return s;
   }
 

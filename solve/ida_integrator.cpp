@@ -9,7 +9,6 @@
 // thousands of steps at the impacts (bench/README.md, piston slap).
 #include <ida/ida.h>
 #include <nvector/nvector_serial.h>
-#include <sunlinsol/sunlinsol_klu.h>
 #include <sunmatrix/sunmatrix_sparse.h>
 
 #include <array>
@@ -25,6 +24,7 @@
 #include "common/interrupt.hpp"
 #include "solve/integrator.hpp"
 #include "solve/jacobian.hpp"
+#include "solve/newton_matrix_solver.hpp"
 #include "solve/split_integrator.hpp"
 
 namespace nvh::solve {
@@ -88,7 +88,8 @@ class IdaIntegrator final : public Integrator {
     sunindextype* rowval = SUNSparseMatrix_IndexValues(matrix_);
     for (int c = 0; c <= n; ++c) colptr[c] = p.column_start[c];
     for (int k = 0; k < p.nonzeros(); ++k) rowval[k] = p.rows[k];
-    solver_ = SUNLinSol_KLU(y_, matrix_, ctx_);
+    newton_solver_ = choose_newton_solver(s.linear_solver, p.n, p.column_start, p.rows).kind;
+    solver_ = make_newton_solver(newton_solver_, y_, matrix_, ctx_);
     check(IDASetLinearSolver(mem_, solver_, matrix_), "IDASetLinearSolver");
     check(IDASetJacFn(mem_, &IdaIntegrator::jacobian), "IDASetJacFn");
     check(IDASetErrHandlerFn(mem_, &IdaIntegrator::quiet, this), "IDASetErrHandlerFn");
@@ -174,6 +175,7 @@ class IdaIntegrator final : public Integrator {
     s.cpu_residual_s = cpu_residual_;
     s.cpu_jacobian_s = cpu_jacobian_;
     s.cpu_factorization_s = std::max(0.0, cpu_total_ - cpu_residual_ - cpu_jacobian_);
+    s.linear_solver = to_string(newton_solver_);
     return s;
   }
 
@@ -335,6 +337,7 @@ class IdaIntegrator final : public Integrator {
   const Model& model_;
   ColoredJacobian jacobian_;
   bool analytic_;
+  NewtonSolver newton_solver_ = NewtonSolver::kKlu;
   SUNContext ctx_ = nullptr;
   void* mem_ = nullptr;
   N_Vector y_ = nullptr, yp_ = nullptr, work_ = nullptr, work2_ = nullptr;

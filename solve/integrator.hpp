@@ -28,6 +28,9 @@ struct IntegratorSettings {
   double step = 1e-4;            // generalized-alpha step (s); adapted if `adaptive`
   bool adaptive = true;          // generalized-alpha: halve the step when Newton fails, grow it back
   std::string jacobian = "analytic";  // "analytic" (model.hpp), "colored-fd" (sparse differences) or "dense-fd"
+  // IDA's Newton matrix: "auto" (dense LU where the matrix is dense enough, else KLU), "klu" or "dense"
+  // (newton_matrix_solver.hpp)
+  std::string linear_solver = "auto";
   bool events = true;            // locate the sign changes of the contact gaps (Model::gaps) as step boundaries
   // method = "split" (split_integrator.hpp, docs/theory/split-integrator.md)
   double macro_step = 0;            // s: H, the exchange interval between the groups
@@ -59,6 +62,9 @@ struct IntegratorStatistics {
   std::array<long, 5> steps_at_order{};
   // wall-clock seconds (steady_clock) in the residual, the Jacobian and the rest (results: wall_*_s)
   double cpu_residual_s = 0, cpu_jacobian_s = 0, cpu_factorization_s = 0;
+  // the Newton matrix's factorization: "klu" or "dense" (IDA, newton_matrix_solver.hpp), "sparse-lu"
+  // (generalized-alpha: Eigen's SparseLU); the split integrator lists its groups' ("klu+dense")
+  std::string linear_solver;
 };
 
 class Integrator {

@@ -273,6 +273,7 @@ void ResultsWriter::finish(const std::string& status, const std::string& message
                     static_cast<std::int64_t>(st.steps_at_order[k]));
   g.set_attribute("wall_residual_s", st.cpu_residual_s);
   g.set_attribute("wall_jacobian_s", st.cpu_jacobian_s);
+  if (!st.linear_solver.empty()) g.set_attribute("linear_solver", st.linear_solver);
   g.set_attribute("wall_linear_algebra_and_other_s", st.cpu_factorization_s);
   g.set_attribute("wall_s", wall_seconds);
   root.set_attribute("status", status);

@@ -431,6 +431,7 @@ void SceneReader::read_integrator(const Table& root) {
   }
   s.adaptive = t->optional_boolean("adaptive").value_or(s.adaptive);
   s.jacobian = t->optional_choice("jacobian", {"analytic", "colored-fd", "dense-fd"}).value_or(s.jacobian);
+  s.linear_solver = t->optional_choice("linear_solver", {"auto", "klu", "dense"}).value_or(s.linear_solver);
   s.events = t->optional_boolean("events").value_or(s.events);
   read_split(*t);
   t->finish();

@@ -21,7 +21,6 @@
 
 #include <ida/ida.h>
 #include <nvector/nvector_serial.h>
-#include <sunlinsol/sunlinsol_klu.h>
 #include <sunmatrix/sunmatrix_sparse.h>
 #include <Eigen/SparseLU>
 
@@ -36,6 +35,7 @@
 
 #include "common/error.hpp"
 #include "common/interrupt.hpp"
+#include "solve/newton_matrix_solver.hpp"
 
 namespace nvh::solve {
 
@@ -264,6 +264,7 @@ class SplitIntegrator final : public Integrator {
     st.cpu_residual_s = cpu_residual_;
     st.cpu_jacobian_s = cpu_jacobian_;
     st.cpu_factorization_s = std::max(0.0, cpu_total_ - cpu_residual_ - cpu_jacobian_);
+    st.linear_solver = linear_solvers_;
     return st;
   }
 
@@ -417,7 +418,11 @@ class SplitIntegrator final : public Integrator {
     check(IDASetDeltaCjLSetup(g.mem, s_.jacobian_cj_change), "IDASetDeltaCjLSetup");
     check(IDASetMaxNumSteps(g.mem, 100000000L), "IDASetMaxNumSteps");
     g.matrix = SUNSparseMatrix(g.m, g.m, std::max<sunindextype>(1, g.rows.size()), CSC_MAT, g.ctx);
-    g.solver = SUNLinSol_KLU(g.u, g.matrix, g.ctx);
+    const std::vector<int> start(g.column_start.begin(), g.column_start.end()),
+        rows(g.rows.begin(), g.rows.end());
+    const NewtonSolver kind = choose_newton_solver(s_.linear_solver, g.m, start, rows).kind;
+    g.solver = make_newton_solver(kind, g.u, g.matrix, g.ctx);
+    linear_solvers_ += (linear_solvers_.empty() ? "" : "+") + std::string(to_string(kind));
     check(IDASetLinearSolver(g.mem, g.solver, g.matrix), "IDASetLinearSolver");
     check(IDASetJacFn(g.mem, &SplitIntegrator::jacobian), "IDASetJacFn");
     check(IDASetErrHandlerFn(g.mem, &SplitIntegrator::quiet, &g), "IDASetErrHandlerFn");
@@ -717,6 +722,7 @@ class SplitIntegrator final : public Integrator {
   double last_macro_step_ = 0;
   IntegratorStatistics stats_;
   double cpu_residual_ = 0, cpu_jacobian_ = 0, cpu_total_ = 0;
+  std::string linear_solvers_;  // each group's Newton solver, "+"-joined (statistics)
 };
 
 }  // namespace

@@ -226,6 +226,8 @@ TEST(SolveSceneErrors, AbsurdValuesAreRefusedNamingTheKey) {
   expect_refused(kBase + "[clock]\nend_time = 1e9\n", "end_time", "clock.end_time",
                  "more than the limit of 1e+09");
   expect_refused(kBase + kClock + "[integrator]\natol = 1e308\n", "atol", "integrator.atol");
+  expect_refused(kBase + kClock + "[integrator]\nlinear_solver = \"lu\"\n", "linear_solver",
+                 "integrator.linear_solver", "\"auto\", \"klu\"");
   // A fixed generalized-alpha step that could never reach the end.
   expect_refused(kBase + kClock + "[integrator]\nmethod = \"generalized-alpha\"\nstep = 1e-300\n",
                  "step =", "integrator.step", "steps, more than the limit of 1e+10");
