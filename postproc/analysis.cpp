@@ -10,6 +10,7 @@ std::unique_ptr<Analysis> make_stats_analysis();
 std::unique_ptr<Analysis> make_erp_analysis();
 std::unique_ptr<Analysis> make_animate_analysis();
 std::unique_ptr<Analysis> make_history_analysis();
+std::unique_ptr<Analysis> make_impacts_analysis();
 
 const std::vector<AnalysisEntry>& analyses() {
   // The registry: one line per analysis (subcommand, `postproc --help` line, factory).
@@ -23,6 +24,8 @@ const std::vector<AnalysisEntry>& analyses() {
        make_animate_analysis},
       {"history", "a signal's samples in its time or crank-angle window, with time and angle",
        make_history_analysis},
+      {"impacts", "the impacts of a contact force: instants, velocity and energy of the impacting body",
+       make_impacts_analysis},
   };
   return registry;
 }

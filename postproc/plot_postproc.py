@@ -215,6 +215,33 @@ def plot_history(group, outdir):
     save(fig_all, outdir, "history_all.png")
 
 
+def plot_impacts(group, outdir):
+    for name in group:
+        g = group[name]
+        angle = "force_crank_angle_deg" in g
+        x = g["force_crank_angle_deg"][()] if angle else g["force_time_s"][()]
+        xi = g["crank_angle_deg"][()] if angle else g["time_s"][()]
+        force = g["force"][()]
+        v = g["velocity"][()]
+        energy = g["energy_j"][()] if "energy_j" in g else None
+        fig, ax = plt.subplots(figsize=(9, 4.5))
+        ax.plot(x, force, lw=0.8)
+        ax.axhline(g.attrs["direction"] * g.attrs["threshold"], color="0.6", lw=0.6, ls="--", label="threshold")
+        for k, at in enumerate(xi):
+            ax.axvline(at, color="C3", lw=0.7)
+            label = f"{v[k]:.3g} {text(g['velocity'].attrs['units'])}"
+            if energy is not None:
+                label += f", {energy[k] * 1e3:.3g} mJ"
+            ax.annotate(label, (at, 0), xytext=(3, 8 + 12 * (k % 3)), textcoords="offset points", fontsize=7,
+                        color="C3")
+        ax.set_xlabel("crank angle [deg]" if angle else "time [s]")
+        ax.set_ylabel(f"{name} [{text(g['force'].attrs['units'])}]")
+        ax.set_title(f"{name}: {len(xi)} impact(s); velocity at impact" + (" and energy" if energy is not None else ""))
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=8)
+        save(fig, outdir, f"impacts_{name}.png")
+
+
 def main():
     if len(sys.argv) != 3:
         sys.exit(__doc__)
@@ -231,6 +258,8 @@ def main():
             plot_erp(f["erp"], outdir)
         if "history" in f:
             plot_history(f["history"], outdir)
+        if "impacts" in f:
+            plot_impacts(f["impacts"], outdir)
 
 
 if __name__ == "__main__":

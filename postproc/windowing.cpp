@@ -1,6 +1,7 @@
 #include "postproc/windowing.hpp"
 
 #include <cmath>
+#include <optional>
 #include <sstream>
 #include <vector>
 
@@ -55,6 +56,22 @@ void apply_angle_window(SignalSource& signal, const SampleRange& range, const An
 }
 
 }  // namespace
+
+Eigen::VectorXd shaft_angle_at_samples(const SignalSource& signal, const AnalysisWindow& window) {
+  const SignalInfo& info = signal.info();
+  if (!window.angle_address.empty() && window.angle_address[0] == '/' && info.file.empty()) return {};
+  std::optional<SignalSource> angle;
+  try {
+    angle.emplace(SignalSource::open(window_angle_address(info, window)));
+  } catch (const Error&) {
+    if (window.angle_active()) throw;
+    return {};  // a signal without a shaft angle: time only
+  }
+  if (angle->size() != signal.file_size()) return {};
+  angle->restrict_to(signal.first_sample(), signal.size());
+  const std::vector<double> a = angle->read_all();
+  return Eigen::Map<const Eigen::VectorXd>(a.data(), static_cast<Eigen::Index>(a.size()));
+}
 
 std::string window_angle_address(const SignalInfo& signal, const AnalysisWindow& window) {
   const std::string& address = window.angle_address;

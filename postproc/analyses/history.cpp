@@ -12,28 +12,6 @@
 #include "postproc/windowing.hpp"
 
 namespace nvh::postproc {
-namespace {
-
-/// The shaft angle (deg) at the samples of a windowed signal: the dataset --window-angle of the signal's own
-/// file (or its full address), restricted like the signal; empty if there is none and no angle window asks
-/// for it.
-Eigen::VectorXd angle_at_samples(const SignalSource& signal, const AnalysisWindow& window) {
-  const SignalInfo& info = signal.info();
-  if (!window.angle_address.empty() && window.angle_address[0] == '/' && info.file.empty()) return {};
-  std::optional<SignalSource> angle;
-  try {
-    angle.emplace(SignalSource::open(window_angle_address(info, window)));
-  } catch (const Error&) {
-    if (window.angle_active()) throw;
-    return {};  // a signal without a shaft angle: time only
-  }
-  if (angle->size() != signal.file_size()) return {};
-  angle->restrict_to(signal.first_sample(), signal.size());
-  const std::vector<double> a = angle->read_all();
-  return Eigen::Map<const Eigen::VectorXd>(a.data(), static_cast<Eigen::Index>(a.size()));
-}
-
-}  // namespace
 
 void run_history(const HistoryCommand& command, const Logger& log, int argc, const char* const* argv) {
   const CommonOptions& common = command.common;
@@ -51,7 +29,7 @@ void run_history(const HistoryCommand& command, const Logger& log, int argc, con
     Eigen::VectorXd time(n);
     for (Eigen::Index i = 0; i < n; ++i)
       time[i] = info.start_time_s + static_cast<double>(i) / info.sample_rate_hz;
-    const Eigen::VectorXd angle = angle_at_samples(s, common.window);
+    const Eigen::VectorXd angle = shaft_angle_at_samples(s, common.window);
 
     h5::Group g = out.root.create_group("history/" + info.name);
     describe_signal(g, info, common.window);

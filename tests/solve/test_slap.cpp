@@ -20,6 +20,8 @@
 //    2 deg, over the RMS of the dry side force; the runs end at 530 deg).
 #include <gtest/gtest.h>
 
+#include <span>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -31,6 +33,7 @@
 
 #include <Eigen/Core>
 
+#include "postproc/impacts.hpp"
 #include "solve/bearing/skirt_film.hpp"
 #include "solve_fixture.hpp"
 
@@ -222,6 +225,22 @@ TEST(Slap, TimingAndImpactVelocityAgainstTheSliderCrankBalance) {
     // travel (the film levels engage their squeeze and asperities before the travel's end: slower)
     EXPECT_NEAR(i.angle, ff.angle, 1.0) << scene;
     EXPECT_NEAR(i.v_pin / ff.velocity - 1, 0.0, 0.10) << scene;
+    // postproc impacts (postproc/impacts.hpp) on the same samples of the 340 .. 400 deg window finds this
+    // impact: its first thrust-side onset, the same angle and pin velocity (the same definition, coded apart)
+    {
+      Eigen::Index from = 0, to = 0;
+      while (from < r.theta.size() && r.theta[from] < 340) ++from;
+      for (to = from; to < r.theta.size() && r.theta[to] <= 400;) ++to;
+      const auto window = [&](const Eigen::VectorXd& y) {
+        return std::span<const double>(y.data() + from, static_cast<std::size_t>(to - from));
+      };
+      postproc::ImpactOptions o;
+      o.threshold = kThreshold, o.direction = -1;
+      const std::vector<postproc::Impact> found = postproc::find_impacts(window(r.side), o);
+      ASSERT_FALSE(found.empty()) << scene;
+      EXPECT_NEAR(postproc::at_impact(found.front(), window(r.theta)), i.angle, 1e-9) << scene;
+      EXPECT_NEAR(postproc::at_impact(found.front(), window(r.v_pin)), i.v_pin, 1e-12) << scene;
+    }
     // after the slap the piston rides on the thrust side through the expansion stroke and its side force
     // follows the balance: 380 .. 520 deg, within 5 % of the largest plus 15 N (the friction's lateral share).
     // (Not over the gas exchange: there the small forces reverse several times and the piston flies across,
