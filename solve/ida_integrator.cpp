@@ -321,11 +321,17 @@ class IdaIntegrator final : public Integrator {
       for (int c = 0; c <= p.n; ++c) colptr[c] = p.column_start[c];
       for (int k = 0; k < p.nonzeros(); ++k) rowval[k] = p.rows[k];
       std::copy(self->values_.begin(), self->values_.end(), SUNSparseMatrix_Data(j));
-      for (double v : self->values_)
-        if (!std::isfinite(v)) {  // KLU would fail on it unrecoverably: a shorter step instead
-          self->note_non_finite(t, y, yp, "the Jacobian");
-          return 1;
-        }
+      for (int c = 0; c < p.n; ++c)
+        for (int k = p.column_start[c]; k < p.column_start[c + 1]; ++k)
+          if (!std::isfinite(self->values_[k])) {  // the LU would fail on it unrecoverably: a shorter step
+            // The entry names the element's bodies even where the residual there is finite (a film that
+            // converged from one start and not from another).
+            const std::string what = "the Jacobian (first non-finite entry: the equation of " +
+                                     self->model_.describe_state(p.rows[k]) + ", by " +
+                                     self->model_.describe_state(c) + ")";
+            self->note_non_finite(t, y, yp, what.c_str());
+            return 1;
+          }
     } catch (...) {
       self->pending_ = std::current_exception();
       return -1;

@@ -144,8 +144,15 @@ int FiniteBearing::solve_film(const Kinematics& k) {
       if (supply[m]) P_[m] = film_.problem.supply_p, r_[m] = 0;
   };
   int total = 0;
+  // Simplified steps (an older factorization) only from the warm start: after it, the factorization and
+  // the contraction rate they rely on belong to another state. From the cold start or along the
+  // continuation they failed to converge where full Newton converges, and once stopped at a false solution
+  // (test FallbackStartsUseFullNewton: an engine state near the half-speed whirl).
+  FiniteSolverOptions full_newton = options_;
+  full_newton.reuse_factorization = false;
+  bool warm = false;
   auto converged = [&] {
-    const int it = film_.solve(P_, r_, options_);
+    const int it = film_.solve(P_, r_, warm ? options_ : full_newton);
     total += std::abs(it);
     return it > 0;
   };
@@ -155,7 +162,9 @@ int FiniteBearing::solve_film(const Kinematics& k) {
     if (has_sensitivity_) predict(k);
     P_ *= p_ref_of_solution_ / p_ref_;  // same dimensional pressures under the new scale
     hold_supply();
+    warm = true;
     if (converged()) return total;
+    warm = false;
   }
   film_.cold_start(P_, r_);
   if (converged()) return total;
@@ -186,7 +195,8 @@ FilmResult FiniteBearing::evaluate(const Kinematics& k, Detail detail) {
     std::ostringstream msg;
     msg << "bearing '" << spec_.name << "': the finite-bearing Newton solve did not converge (" << -iterations
         << " iterations: from the last solution, the cold start and by continuation in de/dt) at e = ("
-        << k.e.x() << ", " << k.e.y() << ") m, de/dt = (" << k.e_dot.x() << ", " << k.e_dot.y() << ") m/s";
+        << k.e.x() << ", " << k.e.y() << ") m, de/dt = (" << k.e_dot.x() << ", " << k.e_dot.y()
+        << ") m/s, omega journal " << k.omega_journal << " rad/s, shell " << k.omega_shell << " rad/s";
     if (film_.barus_isoviscous_product() >= 1)
       msg << "; with Barus viscosity, alpha x the isoviscous peak pressure is "
           << film_.barus_isoviscous_product()
