@@ -88,10 +88,15 @@ def run(build, out, name, rerun):
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     t0 = time.time()
     with open(out / f"{name}.log", "w") as log:
-        subprocess.run([str(build / "solve" / "solve"), f"{name}.toml", "-o", res.name], cwd=out, check=True,
-                       stdout=log, stderr=subprocess.STDOUT)
+        done = subprocess.run([str(build / "solve" / "solve"), f"{name}.toml", "-o", res.name], cwd=out,
+                              stdout=log, stderr=subprocess.STDOUT)
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    if done.returncode != 0:  # a failed variant is a row of the table, not the end of the bench
+        error = [l for l in (out / f"{name}.log").read_text().splitlines() if "error" in l]
+        r = dict(cpu_s=cpu, wall_s=time.time() - t0, failed=error[-1] if error else f"exit {done.returncode}")
+        rec.write_text(json.dumps(r))
+        return r
     with h5py.File(res, "r") as f:
         s = f["solver/steady_state"].attrs
         r = dict(cpu_s=cpu, wall_s=time.time() - t0, cycles=int(s["cycles"]), converged=int(s["converged"]))
@@ -151,13 +156,17 @@ def main():
         link = out / f
         if not link.exists():
             link.symlink_to(out.parent / f)
-    rows = {}
+    rows, failed = {}, {}
     postproc = Path(a.postproc) if a.postproc else build / "postproc" / "postproc"
     for name, label, mains, modes, film, guidance in VARIANTS:
         if a.only and name not in a.only:
             continue
         write_scene(out, name, mains, modes, film, guidance, a.max_cycles)
         r = run(build, out, name, a.rerun)
+        if "failed" in r:
+            print(f"{name}: failed after {r['cpu_s']:.1f} s CPU: {r['failed']}", flush=True)
+            failed[name] = (label, r)
+            continue
         r["post"] = post(postproc, out, name)
         rows[name] = (label, r)
         print(f"{name}: {r['cycles']} cycles, CPU {r['cpu_s']:.1f} s ({r['cpu_s'] / r['cycles']:.1f} s per cycle)",
@@ -182,6 +191,9 @@ def main():
         lines.append(f"| {label} | {r['cycles']}{conv} | {cpc:.1f} s | {d.mean():.2f} / {d.max():.2f} dB | "
                      f"{de.mean():.2f} / {de.max():.2f} dB | {o2:.1f} % / {o4:.1f} % |")
         chart.append((name, label, cpc, d.mean(), d.max(), lv, de.mean(), de.max(), erp))
+    for name, (label, r) in failed.items():
+        message = r["failed"].split("error: ", 1)[-1]
+        lines.append(f"| {label} | failed after {r['cpu_s']:.0f} s CPU: {message[:200]} | | | | |")
     table = "\n".join(lines)
     print(table)
     (out / "engine_fidelity.md").write_text(table + "\n")
