@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <numbers>
 #include <set>
 #include <sstream>
 
@@ -1169,6 +1170,14 @@ std::pair<double, double> Model::constraint_violation(double t, const double* y)
         v_max = std::max(v_max, std::abs(vel[c.first_row + e]));
       }
   return {p_max, v_max};
+}
+
+double Model::clock_angle(const double* y) const {
+  if (clock_index_ < 0) return 0.0;
+  constexpr double kTurn = 2 * std::numbers::pi;
+  const double measured =
+      relative_angle(marker_motion(clock->i, y), marker_motion(clock->j, y)) - clock->zero_angle;
+  return measured + kTurn * std::round((y[clock_index_] - measured) / kTurn);
 }
 
 double Model::total_kinetic_energy(const double* y) const {

@@ -164,7 +164,7 @@ void ResultsWriter::add_sample(double t, const Scene& scene, const Eigen::Vector
   put1(t);
   const EnergyBalance e = m.energy(t, y.data(), yp.data());
   put1(e.kinetic);
-  if (m.clock) put1(m.crank_angle(y.data()) * 180.0 / std::numbers::pi);
+  if (m.clock) put1(m.clock_angle(y.data()) * 180.0 / std::numbers::pi);
   const double total = e.kinetic + e.potential + e.dissipated - e.input;
   if (!energy_reference_) {  // the balance is measured from the first sample of the run
     energy_reference_ = total;

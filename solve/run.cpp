@@ -68,7 +68,7 @@ RunSummary run_scene(Scene& scene, const RunOptions& options, const Provenance& 
     Eigen::VectorXd y_start, yp_start;
     if (scene.steady_state) refuse_restart_of_steady_state_result(options.output);
     model.consistent_initial_state(scene.start_time, y_start, yp_start, log);
-    angle_origin = model.crank_angle(y_start.data());
+    angle_origin = model.clock_angle(y_start.data());
     Checkpoint cp;
     writer = std::make_unique<ResultsWriter>(ResultsWriter::reopen(options.output, scene, cp));
     y = cp.y;
@@ -79,7 +79,7 @@ RunSummary run_scene(Scene& scene, const RunOptions& options, const Provenance& 
              " samples kept)");
   } else {
     model.consistent_initial_state(t0, y, yp, log);
-    angle_origin = model.crank_angle(y.data());
+    angle_origin = model.clock_angle(y.data());
     require_finite(model, t0, y, yp);
     Checkpoint start;
     start.time = t0;
@@ -92,7 +92,7 @@ RunSummary run_scene(Scene& scene, const RunOptions& options, const Provenance& 
   // feeds it the samples kept in the file first.
   std::unique_ptr<SteadyStateMonitor> steady;
   auto steady_x = [&](double t, const Eigen::VectorXd& ys) {
-    return scene.steady_state->by_angle ? model.crank_angle(ys.data()) * 180.0 / std::numbers::pi : t;
+    return scene.steady_state->by_angle ? model.clock_angle(ys.data()) * 180.0 / std::numbers::pi : t;
   };
   if (scene.steady_state) {
     steady = std::make_unique<SteadyStateMonitor>(
@@ -154,7 +154,7 @@ RunSummary run_scene(Scene& scene, const RunOptions& options, const Provenance& 
           throw Error("more than " + number(kMaxSamples) + " samples at t = " + number(ts) +
                       " s; expected a lower output.sample_rate_hz or an earlier end");
         integrator->interpolate(std::min(ts, t), ys, yps);
-        if (by_angle && model.crank_angle(ys.data()) - angle_origin > end_angle * (1 + 1e-9)) {
+        if (by_angle && model.clock_angle(ys.data()) - angle_origin > end_angle * (1 + 1e-9)) {
           done = true;
           break;
         }
@@ -179,7 +179,7 @@ RunSummary run_scene(Scene& scene, const RunOptions& options, const Provenance& 
       }
       if (since_flush >= scene.output.chunk_samples) checkpoint();
       const double fraction =
-          by_angle ? (model.crank_angle(ys.data()) - angle_origin) * 180.0 / std::numbers::pi
+          by_angle ? (model.clock_angle(ys.data()) - angle_origin) * 180.0 / std::numbers::pi
                    : 1000.0 * (t - scene.start_time) / std::max(1e-300, t_end - scene.start_time);
       const double wall = wall_seconds();
       if (wall - last_detail >= 0.5) {  // the detail (statistics, formatting) at most twice a second
@@ -188,7 +188,7 @@ RunSummary run_scene(Scene& scene, const RunOptions& options, const Provenance& 
         std::ostringstream detail;
         detail.precision(4);
         detail << "t = " << t << " s";
-        if (model.clock) detail << ", " << model.crank_angle(ys.data()) * 180.0 / std::numbers::pi << " deg";
+        if (model.clock) detail << ", " << model.clock_angle(ys.data()) * 180.0 / std::numbers::pi << " deg";
         detail << ", " << static_cast<long>(st.steps / std::max(wall, 1e-9)) << " steps/s";
         progress.update(static_cast<std::int64_t>(fraction), detail.str());
       }

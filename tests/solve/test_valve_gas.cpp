@@ -79,7 +79,11 @@ TEST(ValveGas, PushrodCarriesTheGasLoadTimesTheRockerRatio) {
     ++checked;
   }
   EXPECT_GT(checked, 100);
-  EXPECT_LT(worst_load, 1e-9);  // N: the table times the scale, at the clock's angle
+  // N: the table times the scale, at the clock's angle. The load reads the clock's integrated state, the
+  // results its measured angle (scene-format.md section 6); they differ by the state's integration error,
+  // here about 5e-9 deg on the table's steepest slope (measured 1.1e-5 N; 1e-9 N before the angle was
+  // measured)
+  EXPECT_LT(worst_load, 1e-4);
   const double error = sum_measured / sum_expected - 1;
   EXPECT_LT(std::abs(error), 0.01);  // of the pushrod force's change, mean over the window (measured -0.18 %)
   std::printf(
