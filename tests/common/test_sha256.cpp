@@ -2,8 +2,15 @@
 // (Python's hashlib, i.e. OpenSSL), for strings, byte buffers and files.
 #include "common/sha256.hpp"
 
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <sys/xattr.h>
 #include <unistd.h>
+
+#include <cerrno>
+#include <cstdlib>
+#include <cstring>
 
 #include <cstddef>
 #include <filesystem>
@@ -101,6 +108,40 @@ TEST_F(Sha256FileTest, FilesAreHashedByContent) {
             "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
   EXPECT_EQ(sha256_file(write("empty.txt", "", 0)),
             "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
+}
+
+// The digest remembered in the file's attribute user.nvh.sha256 with its size and mtime: read back while both
+// are unchanged (a forged record with the file's stat is believed: the cache trusts the stat, as make does),
+// recomputed when the mtime changes, ignored with NVH_HASH_CACHE=0.
+TEST_F(Sha256FileTest, DigestIsRememberedWhileSizeAndMtimeAreUnchanged) {
+  const fs::path file = write("abc.bin", "abc", 3);
+  const std::string abc = "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad";
+  EXPECT_EQ(sha256_file(file), abc);
+  char value[256];
+  const ssize_t n = getxattr(file.c_str(), "user.nvh.sha256", value, sizeof value);
+  if (n < 0) GTEST_SKIP() << "no user extended attributes here: " << std::strerror(errno);
+  const std::string record(value, static_cast<size_t>(n));
+  EXPECT_EQ(record.substr(record.size() - 64), abc);
+  EXPECT_EQ(record.rfind("nvh-sha256 v1 size=3 mtime_ns=", 0), 0u) << record;
+  // A forged digest under the file's own size and mtime is returned: the content is not read again.
+  const std::string forged = record.substr(0, record.size() - 64) + std::string(64, 'f');
+  ASSERT_EQ(setxattr(file.c_str(), "user.nvh.sha256", forged.data(), forged.size(), 0), 0);
+  EXPECT_EQ(sha256_file(file), std::string(64, 'f'));
+  // ... but not with the cache turned off,
+  setenv("NVH_HASH_CACHE", "0", 1);
+  EXPECT_EQ(sha256_file(file), abc);
+  unsetenv("NVH_HASH_CACHE");
+  // ... and not once the content changes (same size, a new mtime): the new digest, and it is remembered.
+  std::ofstream(file, std::ios::binary).write("abd", 3);
+  struct timespec times[2] = {{0, UTIME_OMIT}, {1700000000, 123456789}};
+  ASSERT_EQ(utimensat(AT_FDCWD, file.c_str(), times, 0), 0);
+  const std::string abd = "a52d159f262b2c6ddb724a61840befc36eb30c88877a4030b65cbe86298449c9";
+  EXPECT_EQ(sha256_file(file), abd);
+  const ssize_t m = getxattr(file.c_str(), "user.nvh.sha256", value, sizeof value);
+  ASSERT_GT(m, 0);
+  EXPECT_EQ(std::string(value, static_cast<size_t>(m)),
+            "nvh-sha256 v1 size=3 mtime_ns=1700000000123456789 " + abd);
+  EXPECT_EQ(sha256_file(file), abd);
 }
 
 TEST_F(Sha256FileTest, UnreadableFilesAreNamed) {
