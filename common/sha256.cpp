@@ -5,6 +5,7 @@
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <sys/xattr.h>
+#include <time.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -95,6 +96,13 @@ bool same_stat(const struct stat& a, const struct stat& b) {
          a.st_mtim.tv_nsec == b.st_mtim.tv_nsec;
 }
 
+/// Whether the file's mtime lies more than a second before `now`.
+bool modified_over_a_second_before(const struct stat& st, const struct timespec& now) {
+  const long long mtime_ns = static_cast<long long>(st.st_mtim.tv_sec) * 1000000000LL + st.st_mtim.tv_nsec;
+  const long long now_ns = static_cast<long long>(now.tv_sec) * 1000000000LL + now.tv_nsec;
+  return now_ns - mtime_ns > 1000000000LL;
+}
+
 /// The cached digest if the attribute holds one for this size and mtime, else "".
 std::string cached_digest(int fd, const struct stat& st) {
   char value[256];
@@ -142,7 +150,13 @@ std::string sha256_file(const std::filesystem::path& path) {
   }
   std::string hex = hash.hex_digest();
   struct stat after {};
-  if (cache && ::fstat(file.fd, &after) == 0 && same_stat(before, after)) {  // not changed while it was read
+  // Stored only for a file unchanged while it was read and last modified over a second ago: file systems
+  // stamp mtime at the kernel's clock tick (ext4: a few ms), so a rewrite within the tick of the last one
+  // would keep the mtime; any later write stamps a time past the stored one (git's "racy" rule).
+  struct timespec now {};
+  ::clock_gettime(CLOCK_REALTIME, &now);
+  const bool settled = modified_over_a_second_before(before, now);
+  if (cache && settled && ::fstat(file.fd, &after) == 0 && same_stat(before, after)) {
     const std::string record = cache_record(after, hex);
     (void)fsetxattr(file.fd, kCacheAttribute, record.data(), record.size(), 0);  // best effort
   }
