@@ -12,6 +12,7 @@ to 4.8 kHz, 45 coordinates) and its fidelity variants, each to its own steady st
                   table, as a cost and level figure against the reference; not a fidelity level of item 6)
   prismatic_guidance  the reference with the former piston guidance (prismatic joints to the liners, revolute
                   small ends: over-constrained, docs/engine.md "Piston guidance")
+  spring_ends     the reference with big and small ends as eq. 8 spring-dampers (bearing-spring, 4e8 N/m)
   finite_mains    finite (Reynolds, JFO) main bearings, block 45
   finite_film4    engine_finite_mains.toml: finite mains and piston 4 on the film (issue 15's benchmark
                   configuration)
@@ -66,6 +67,7 @@ VARIANTS = [
     ("block_2k", "short mains, block 2.0 kHz (11)", "short", 11, (), "in-line"),
     ("film4", "as reference, piston 4 on the film", "short", 45, (3,), "in-line"),
     ("prismatic_guidance", "as reference, prismatic guidance (former)", "short", 45, (), "prismatic"),
+    ("spring_ends", "as reference, eq. 8 spring-damper big and small ends", "short", 45, (), "spring-ends"),
     ("finite_mains", "finite mains, block 4.8 kHz (45)", "finite", 45, (), "in-line"),
     ("finite_film4", "finite mains, piston 4 on the film", "finite", 45, (3,), "in-line"),
 ]

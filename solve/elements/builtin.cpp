@@ -10,6 +10,7 @@ const ElementRegistry& builtin_elements() {
     register_maxwell(r);
     register_mass_chain(r);
     register_bushing(r);
+    register_bearing_spring(r);
     register_torsional_spring_damper(r);
     register_contact(r);
     register_point_set_contact(r);

@@ -8,6 +8,7 @@ void register_spring_damper(ElementRegistry&);
 void register_maxwell(ElementRegistry&);
 void register_mass_chain(ElementRegistry&);  // mass-chain and valve-spring
 void register_bushing(ElementRegistry&);
+void register_bearing_spring(ElementRegistry&);
 void register_torsional_spring_damper(ElementRegistry&);
 void register_contact(ElementRegistry&);
 void register_point_set_contact(ElementRegistry&);

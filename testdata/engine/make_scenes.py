@@ -75,6 +75,11 @@ MAXWELL_K, MAXWELL_C = 1.0e5, 1000.0        # hydro mount's fluid path: corner k
 # main bearings
 JB = dict(diameter=0.055, width=0.024, radial_clearance=30e-6, viscosity=0.008)
 MAIN_K, MAIN_D = 1.0e9, 2.0e4               # eq. 8 bearings: N/m, N s/m (radial)
+# eq. 8 big and small ends (guidance "spring-ends"): an oil film at moderate eccentricity, 4e8 N/m radially
+# (the conrod and piston bounce on it at ~3 and ~4.7 kHz), damping ratio ~0.1 for the conrod; axial 1e8 N/m
+# (the cheeks' thrust faces, big end only); tilt k_r w^2 / 12 over a 20 mm wide bush (and d alike)
+END_SPRING = dict(k=4.0e8, d=4.0e3, k_axial=1.0e8, d_axial=1.0e3, k_tilt=4.0e8 * 0.02**2 / 12,
+                  d_tilt=4.0e3 * 0.02**2 / 12)
 THRUST_K, THRUST_D = 1.0e8, 2.0e3           # axial, at main 3
 # finite (Reynolds) mains: the oil supply of testdata/scenes/bearing_crankshaft.toml; the hole in the upper
 # (unloaded by the gas) shell: the shell marker's x is +z (up), so +z is angle 0 about the crank axis
@@ -189,6 +194,38 @@ def pin_z(k):
     return R if THROW_UP[k] else -R
 
 
+def big_end_block(n, crank_pin):
+    """The big end as the paper's eq. 8 spring-damper (guidance "spring-ends")."""
+    r = END_SPRING
+    return f"""[[force]]
+name = "big_end{n}"                # eq. 8: the big-end bearing as radial, axial and tilt spring-dampers
+type = "bearing-spring"
+i = "conrod{n}.big_end"
+j = "{crank_pin}"
+radial_stiffness = {f(r['k'])}
+radial_damping = {f(r['d'])}
+axial_stiffness = {f(r['k_axial'])}
+axial_damping = {f(r['d_axial'])}
+tilt_stiffness = {f(r['k_tilt'])}
+tilt_damping = {f(r['d_tilt'])}
+"""
+
+
+def small_end_block(n):
+    """The small end as the paper's eq. 8 spring-damper: no axial spring (the floating pin)."""
+    r = END_SPRING
+    return f"""[[force]]
+name = "small_end{n}"              # eq. 8: the pin in the small-end bush; floats along the pin
+type = "bearing-spring"
+i = "piston{n}.pin"
+j = "conrod{n}.small_end"
+radial_stiffness = {f(r['k'])}
+radial_damping = {f(r['d'])}
+tilt_stiffness = {f(r['k_tilt'])}
+tilt_damping = {f(r['d_tilt'])}
+"""
+
+
 def crank_train(lines, block, crank_pin, head_at, liner_of, film=(), tilt_plane_of=None, guidance="in-line"):
     """Conrods, pistons, their joints, and the gas loads. crank_pin(k) names the crank pin marker (z along x),
     head_at(k) the block's marker for the head reaction (or None), liner_of(k) the block's guide marker (z the
@@ -202,9 +239,13 @@ def crank_train(lines, block, crank_pin, head_at, liner_of, film=(), tilt_plane_
     block's `bore<n>`, see skirt_film); the film holds the lateral motion in the plane and the tilt about the
     pin, the revolute small end the rest (the piston then floats with the rod along the crank axis).
     guidance = "prismatic": the former guidance (prismatic joint to the liner, revolute small end: 15 equations,
-    3 redundant, an over-constrained crank train), kept for the comparison in bench/engine_fidelity.py."""
+    3 redundant, an over-constrained crank train), kept for the comparison in bench/engine_fidelity.py.
+    guidance = "spring-ends": the in-line guidance with big and small ends as the paper's eq. 8 spring-dampers
+    (`bearing-spring`: radial, axial and tilt springs, the spin free) instead of joints; the small end has no
+    axial spring (the floating pin), and film cylinders keep their revolute small end."""
     if tilt_plane_of is None:
         tilt_plane_of = lambda k: liner_of(k) + "_plane"  # noqa: E731
+    spring_ends = guidance == "spring-ends"
     for k in range(4):
         n = k + 1
         zb = pin_z(k)
@@ -234,6 +275,18 @@ i = "piston{n}.crown"
 j = "{tilt_plane_of(k)}"
 """
             small_end = "cylindrical"      # floating pin: the rod slides along it (crank-guided conrod)
+        big_end = big_end_block(n, crank_pin(k)) if spring_ends else f"""[[joint]]
+name = "big_end{n}"
+type = "revolute"
+i = "conrod{n}.big_end"
+j = "{crank_pin(k)}"
+"""
+        small_end_text = small_end_block(n) if spring_ends and k not in film else f"""[[joint]]
+name = "small_end{n}"
+type = "{small_end}"
+i = "piston{n}.pin"
+j = "conrod{n}.small_end"
+"""
         lines.append(f"""
 # ---- cylinder {n}: conrod and piston ({'TDC' if THROW_UP[k] else 'BDC'} at crank angle 0)
 [[body]]
@@ -271,18 +324,8 @@ position = [{f(CYL_X[k])}, 0, {f(zs)}]       # centre of mass taken on the pin a
   name = "crown"
   at = [0, 0, {f(COMPRESSION_H)}]{piston_film_markers() if k in film else ""}
 
-[[joint]]
-name = "big_end{n}"
-type = "revolute"
-i = "conrod{n}.big_end"
-j = "{crank_pin(k)}"
-
-[[joint]]
-name = "small_end{n}"
-type = "{small_end}"
-i = "piston{n}.pin"
-j = "conrod{n}.small_end"
-
+{big_end}
+{small_end_text}
 {guide}
 [[load]]
 name = "gas{n}"                    # (p - 1 bar) x bore area on the crown, fires at {FIRING_OFFSET[k]} deg

@@ -206,6 +206,24 @@ TEST(ElementJacobians, Bushing) {
   for (int n = 0; n < 4; ++n) expect_matches(*diag.element, two_random(rng), "diagonal bushing " + std::to_string(n));
 }
 
+// bearing-spring: random motions, and the journal turned about the bore's axis by up to several turns (where
+// a bushing's rotation vector jumps) with a small tilt, against central differences of evaluate().
+constexpr const char* kBearingSpringKeys =
+    "radial_stiffness = 2e5\nradial_damping = 30\naxial_stiffness = 5e4\naxial_damping = 7\n"
+    "tilt_stiffness = 3e3\ntilt_damping = 0.4\n";
+TEST(ElementJacobians, BearingSpringMatchesDifferences) {
+  std::mt19937 rng(11);
+  const Built b = build("force", "bearing-spring", kBearingSpringKeys, {MarkerMotion{}, MarkerMotion{}});
+  for (int n = 0; n < 8; ++n)
+    expect_matches(*b.element, two_random(rng), "bearing-spring, random " + std::to_string(n));
+  for (double spin : {0.0, 1.0, 3.1, 3.2, 20.0}) {
+    Point p = two_random(rng);
+    p.markers[0].axes = p.markers[1].axes * Eigen::AngleAxisd(spin, Vec3::UnitZ()).toRotationMatrix() *
+                        Eigen::AngleAxisd(0.01, Vec3(1, 0.3, 0).normalized()).toRotationMatrix();
+    expect_matches(*b.element, p, "bearing-spring, spun " + std::to_string(spin) + " rad about z_j");
+  }
+}
+
 // Contact: a point's origin (marker i = 0) against the plane of j (= 1, normal z_j). Velocities are set so that
 // the normal rate is as wanted (the clamp: separating fast enough that 1 + alpha delta' < 0).
 void set_normal_rate(Point& p, double vn, int i = 0, int plane = 1) {
@@ -763,19 +781,24 @@ TEST(ElementJacobians, EveryRegisteredTypeIsAnalytic) {
        "masses = 3\nmass = 0.03\nstiffness = 1e5\ndamping_ratio = 0.05\nfree_length = 0.2\n"},
       {"force valve-spring",
        "wire_diameter = 0.004\nmean_diameter = 0.025\nactive_coils = 6\nfree_length = 0.05\n"},
-      {"force bushing", "stiffness = [1e5, 2e5, 3e5, 1e3, 2e3, 3e3]\ndamping = [10, 20, 30, 0.1, 0.2, 0.3]\n"},
+      {"force bushing",
+       "stiffness = [1e5, 2e5, 3e5, 1e3, 2e3, 3e3]\ndamping = [10, 20, 30, 0.1, 0.2, 0.3]\n"},
       {"force torsional-spring-damper", "k = 500.0\nd = 2.0\n"},
+      {"force bearing-spring", kBearingSpringKeys},
       {"force contact", "stiffness = 1e6\nclearance = -0.5\nmu_static = 0.3\n"},
       {"force point-set-contact", "stiffness = 1e6\nclearance = -0.5\nmu_static = 0.3\n"},
       {"force table-force", "table = [[-1.0, 1e4], [1.0, -1e4]]\n"},
-      {"force roller-cam", "roller_width = 0.01\nprofile = \"eccentric\"\nbase_radius = 0.1\neccentricity = 0.02\n"
-                           "roller_radius = 0.02\n"},
+      {"force roller-cam",
+       "roller_width = 0.01\nprofile = \"eccentric\"\nbase_radius = 0.1\neccentricity = 0.02\n"
+       "roller_radius = 0.02\n"},
       {"force motor", "table = [[-1000.0, 20.0], [3000.0, -5.0]]\n"},
-      {"force flat-face-cam", "face_width = 0.01\nprofile = \"eccentric\"\nbase_radius = 0.1\n"
-                              "eccentricity = 0.02\nroller_radius = 0.02\nmu_static = 0.1\n"},
+      {"force flat-face-cam",
+       "face_width = 0.01\nprofile = \"eccentric\"\nbase_radius = 0.1\n"
+       "eccentricity = 0.02\nroller_radius = 0.02\nmu_static = 0.1\n"},
       {"driver motor", "table = [[-1000.0, 20.0], [3000.0, -5.0]]\n"},
       {"load force", "direction = [0, 0, 1]\naxes = \"marker\"\namplitude = 1.0\nfrequency_hz = 10.0\n"},
-      {"load torque", "direction = [0, 0, 1]\nabscissa = \"crank-angle\"\ntable = [[0.0, 0.0], [720.0, 1.0]]\n"},
+      {"load torque",
+       "direction = [0, 0, 1]\nabscissa = \"crank-angle\"\ntable = [[0.0, 0.0], [720.0, 1.0]]\n"},
       {"force valve-seat", "seat_diameter = 0.03\nface_radius = 0.05\nrestitution = 0.8\n"},
       {"force piston-liner", kPistonLinerKeys},
   };
