@@ -13,6 +13,8 @@ to 4.8 kHz, 45 coordinates) and its fidelity variants, each to its own steady st
   prismatic_guidance  the reference with the former piston guidance (prismatic joints to the liners, revolute
                   small ends: over-constrained, docs/engine.md "Piston guidance")
   spring_ends     the reference with big and small ends as eq. 8 spring-dampers (bearing-spring, 4e8 N/m)
+  beam_conrods    the reference with the conrods as beam superelements (testdata/conrod.toml, conrod.h5 made by
+                  `make -f Makefile.workflow out/conrod.h5`)
   finite_mains    finite (Reynolds, JFO) main bearings, block 45
   finite_film4    engine_finite_mains.toml: finite mains and piston 4 on the film (issue 15's benchmark
                   configuration)
@@ -68,6 +70,7 @@ VARIANTS = [
     ("film4", "as reference, piston 4 on the film", "short", 45, (3,), "in-line"),
     ("prismatic_guidance", "as reference, prismatic guidance (former)", "short", 45, (), "prismatic"),
     ("spring_ends", "as reference, eq. 8 spring-damper big and small ends", "short", 45, (), "spring-ends"),
+    ("beam_conrods", "as reference, beam conrods (Craig-Bampton 15 kHz)", "short", 45, (), "in-line+beam-conrods"),
     ("finite_mains", "finite mains, block 4.8 kHz (45)", "finite", 45, (), "in-line"),
     ("finite_film4", "finite mains, piston 4 on the film", "finite", 45, (3,), "in-line"),
 ]
@@ -158,6 +161,8 @@ def main():
         link = out / f
         if not link.exists():
             link.symlink_to(out.parent / f)
+    if not (out / "conrod.h5").exists() and (out.parent.parent / "conrod.h5").exists():
+        (out / "conrod.h5").symlink_to(out.parent.parent / "conrod.h5")
     rows, failed = {}, {}
     postproc = Path(a.postproc) if a.postproc else build / "postproc" / "postproc"
     for name, label, mains, modes, film, guidance in VARIANTS:

@@ -194,13 +194,13 @@ def pin_z(k):
     return R if THROW_UP[k] else -R
 
 
-def big_end_block(n, crank_pin):
+def big_end_block(n, crank_pin, marker="big_end"):
     """The big end as the paper's eq. 8 spring-damper (guidance "spring-ends")."""
     r = END_SPRING
     return f"""[[force]]
 name = "big_end{n}"                # eq. 8: the big-end bearing as radial, axial and tilt spring-dampers
 type = "bearing-spring"
-i = "conrod{n}.big_end"
+i = "conrod{n}.{marker}"
 j = "{crank_pin}"
 radial_stiffness = {f(r['k'])}
 radial_damping = {f(r['d'])}
@@ -211,14 +211,14 @@ tilt_damping = {f(r['d_tilt'])}
 """
 
 
-def small_end_block(n):
+def small_end_block(n, marker="small_end"):
     """The small end as the paper's eq. 8 spring-damper: no axial spring (the floating pin)."""
     r = END_SPRING
     return f"""[[force]]
 name = "small_end{n}"              # eq. 8: the pin in the small-end bush; floats along the pin
 type = "bearing-spring"
 i = "piston{n}.pin"
-j = "conrod{n}.small_end"
+j = "conrod{n}.{marker}"
 radial_stiffness = {f(r['k'])}
 radial_damping = {f(r['d'])}
 tilt_stiffness = {f(r['k_tilt'])}
@@ -242,10 +242,15 @@ def crank_train(lines, block, crank_pin, head_at, liner_of, film=(), tilt_plane_
     3 redundant, an over-constrained crank train), kept for the comparison in bench/engine_fidelity.py.
     guidance = "spring-ends": the in-line guidance with big and small ends as the paper's eq. 8 spring-dampers
     (`bearing-spring`: radial, axial and tilt springs, the spin free) instead of joints; the small end has no
-    axial spring (the floating pin), and film cylinders keep their revolute small end."""
+    axial spring (the floating pin), and film cylinders keep their revolute small end.
+    guidance = "beam-conrods": the conrods as beam superelements (testdata/conrod.toml condensed to conrod.h5,
+    Craig-Bampton to 15 kHz) instead of rigid bodies. Options combine with "+" ("spring-ends+beam-conrods")."""
     if tilt_plane_of is None:
         tilt_plane_of = lambda k: liner_of(k) + "_plane"  # noqa: E731
-    spring_ends = guidance == "spring-ends"
+    options = set(guidance.split("+"))
+    spring_ends = "spring-ends" in options
+    beam_conrods = "beam-conrods" in options
+    guidance = "prismatic" if "prismatic" in options else "in-line"
     for k in range(4):
         n = k + 1
         zb = pin_z(k)
@@ -275,21 +280,39 @@ i = "piston{n}.crown"
 j = "{tilt_plane_of(k)}"
 """
             small_end = "cylindrical"      # floating pin: the rod slides along it (crank-guided conrod)
-        big_end = big_end_block(n, crank_pin(k)) if spring_ends else f"""[[joint]]
+        be, se = ("big_eye", "small_eye") if beam_conrods else ("big_end", "small_end")
+        big_end = big_end_block(n, crank_pin(k), be) if spring_ends else f"""[[joint]]
 name = "big_end{n}"
 type = "revolute"
-i = "conrod{n}.big_end"
+i = "conrod{n}.{be}"
 j = "{crank_pin(k)}"
 """
-        small_end_text = small_end_block(n) if spring_ends and k not in film else f"""[[joint]]
+        small_end_text = small_end_block(n, se) if spring_ends and k not in film else f"""[[joint]]
 name = "small_end{n}"
 type = "{small_end}"
 i = "piston{n}.pin"
-j = "conrod{n}.small_end"
+j = "conrod{n}.{se}"
 """
-        lines.append(f"""
-# ---- cylinder {n}: conrod and piston ({'TDC' if THROW_UP[k] else 'BDC'} at crank angle 0)
-[[body]]
+        if beam_conrods:
+            conrod = f"""[[body]]
+name = "conrod{n}"
+type = "flexible"                  # beam superelement of ../conrod.toml (0.674 kg, CoM 45.6 mm from the big end)
+superelement = "conrod.h5"
+position = [{f(CYL_X[k])}, 0, {f(zb)}]    # the component's origin: the big-end centre
+orientation = [0.7071067811865476, 0, -0.7071067811865476, 0]   # component x (big -> small end) -> global z
+  [[body.marker]]
+  name = "big_eye"                 # at the interface point big_end, z along the crank axis (global x)
+  point = "big_end"
+  z = [0, 0, -1]
+  x = [1, 0, 0]
+  [[body.marker]]
+  name = "small_eye"
+  point = "small_end"
+  z = [0, 0, -1]
+  x = [1, 0, 0]
+"""
+        else:
+            conrod = f"""[[body]]
 name = "conrod{n}"
 type = "rigid"
 mass = {f(ROD_M)}                        # conrod.toml
@@ -305,7 +328,10 @@ position = [{f(CYL_X[k])}, 0, {f(zb + ROD_A)}]    # centre of mass, {ROD_A * 1e3
   at = [0, 0, {f(L_ROD - ROD_A)}]
   z = [1, 0, 0]
   x = [0, 0, 1]
-
+"""
+        lines.append(f"""
+# ---- cylinder {n}: conrod and piston ({'TDC' if THROW_UP[k] else 'BDC'} at crank angle 0)
+{conrod}
 [[body]]
 name = "piston{n}"
 type = "rigid"
