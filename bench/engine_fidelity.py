@@ -15,6 +15,7 @@ to 4.8 kHz, 45 coordinates) and its fidelity variants, each to its own steady st
   spring_ends     the reference with big and small ends as eq. 8 spring-dampers (bearing-spring, 4e8 N/m)
   beam_conrods    the reference with the conrods as beam superelements (testdata/conrod.toml, conrod.h5 made by
                   `make -f Makefile.workflow out/conrod.h5`)
+  head            the reference with the cylinder head as a rigid 14 kg body bolted to the deck (bushings)
   finite_mains    finite (Reynolds, JFO) main bearings, block 45
   finite_film4    engine_finite_mains.toml: finite mains and piston 4 on the film (issue 15's benchmark
                   configuration)
@@ -71,6 +72,7 @@ VARIANTS = [
     ("prismatic_guidance", "as reference, prismatic guidance (former)", "short", 45, (), "prismatic"),
     ("spring_ends", "as reference, eq. 8 spring-damper big and small ends", "short", 45, (), "spring-ends"),
     ("beam_conrods", "as reference, beam conrods (Craig-Bampton 15 kHz)", "short", 45, (), "in-line+beam-conrods"),
+    ("head", "as reference, the cylinder head as a 14 kg body", "short", 45, (), "in-line+head"),
     ("finite_mains", "finite mains, block 4.8 kHz (45)", "finite", 45, (), "in-line"),
     ("finite_film4", "finite mains, piston 4 on the film", "finite", 45, (3,), "in-line"),
 ]
