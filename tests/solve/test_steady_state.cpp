@@ -327,9 +327,13 @@ TEST(SteadyState, BadInputNamesTheFileLineAndKey) {
 // A run stopped by SIGTERM part-way keeps its history and checkpoint; --restart replays the kept samples
 // through the monitor and ends with the same cycles and the same kept cycle as an uninterrupted run.
 TEST(SteadyState, InterruptedAndRestartedRunEqualsAnUninterruptedOne) {
-  // Slower than the shipped scene (10 kHz, a tighter tolerance) so that the signal lands inside the run.
+  // Slower than the shipped scene (10 kHz, a tighter tolerance) so that the signal lands inside the run. The
+  // tolerance stays well above the integrator's noise floor (rtol 1e-9: cycle-to-cycle changes of about 1e-6
+  // of the RMS): at 1e-6 the cycle where the run converged was set by that noise and differed by 2 between
+  // the runs now and then.
+  constexpr double kTolerance = 1e-4;
   const std::string text =
-      oscillator({{"tolerance = 1e-3", "tolerance = 1e-6"},
+      oscillator({{"tolerance = 1e-3", "tolerance = 1e-4"},
                   {"max_cycles = 60", "max_cycles = 200"},
                   {"sample_rate_hz = 2000", "sample_rate_hz = 10000\nchunk_samples = 500"}});
   const auto scene = testing::temp_path("steady_restart.toml");
@@ -352,9 +356,10 @@ TEST(SteadyState, InterruptedAndRestartedRunEqualsAnUninterruptedOne) {
       0);
   const h5::File a = h5::File::open_read(whole), b = h5::File::open_read(parts);
   EXPECT_EQ(b.root().string_attribute("status"), "complete");
-  // The restart perturbs the solution by about 1e-7 m (rtol 1e-9 on 2 cm, accumulated), more than the last
-  // cycles' changes (1e-6 of 1.4 cm RMS): the convergence may then be seen one cycle apart. The kept
-  // cycles are then one period apart, and both within the tolerance of the periodic solution.
+  // The restart perturbs the solution by about 1e-7 m (rtol 1e-9 on 2 cm, accumulated): where a cycle's
+  // estimated distance lies near the tolerance, the convergence may be seen one cycle apart. The kept cycles
+  // are then one period apart, both within the tolerance of the periodic solution, and differ by at most the
+  // last cycle's change (below the tolerance times the amplitude).
   const int ca = a.root().int_attribute("cycles", "solver/steady_state"),
             cb = b.root().int_attribute("cycles", "solver/steady_state");
   EXPECT_LE(std::abs(ca - cb), 1);
@@ -363,7 +368,8 @@ TEST(SteadyState, InterruptedAndRestartedRunEqualsAnUninterruptedOne) {
   EXPECT_LT((ta - tb).cwiseAbs().maxCoeff() - std::abs(ca - cb) * kPeriod, 1e-12);
   const Eigen::VectorXd xa = a.root().read_vector("forces/spring/deflection"),
                         xb = b.root().read_vector("forces/spring/deflection");
-  EXPECT_LT((xa - xb).cwiseAbs().maxCoeff(), 2e-7);
+  EXPECT_LT((xa - xb).cwiseAbs().maxCoeff(),
+            2e-7 + std::abs(ca - cb) * kTolerance * xa.cwiseAbs().maxCoeff());
   // A finished steady-state result is not continued.
   EXPECT_EQ(WEXITSTATUS(std::system(
                 (solve + scene.string() + " -o " + parts.string() + " --restart -q 2>/dev/null").c_str())),
