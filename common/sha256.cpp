@@ -85,22 +85,22 @@ bool cache_enabled() {
   return !(v && std::string_view(v) == "0");
 }
 
+long long nanoseconds(const struct timespec& t) {
+  return static_cast<long long>(t.tv_sec) * 1000000000LL + t.tv_nsec;
+}
+
 std::string cache_record(const struct stat& st, const std::string& hex) {
-  return std::string(kCacheTag) + " size=" + std::to_string(st.st_size) + " mtime_ns=" +
-         std::to_string(static_cast<long long>(st.st_mtim.tv_sec) * 1000000000LL + st.st_mtim.tv_nsec) + " " +
-         hex;
+  return std::string(kCacheTag) + " size=" + std::to_string(st.st_size) +
+         " mtime_ns=" + std::to_string(nanoseconds(st.st_mtim)) + " " + hex;
 }
 
 bool same_stat(const struct stat& a, const struct stat& b) {
-  return a.st_size == b.st_size && a.st_mtim.tv_sec == b.st_mtim.tv_sec &&
-         a.st_mtim.tv_nsec == b.st_mtim.tv_nsec;
+  return a.st_size == b.st_size && nanoseconds(a.st_mtim) == nanoseconds(b.st_mtim);
 }
 
 /// Whether the file's mtime lies more than a second before `now`.
 bool modified_over_a_second_before(const struct stat& st, const struct timespec& now) {
-  const long long mtime_ns = static_cast<long long>(st.st_mtim.tv_sec) * 1000000000LL + st.st_mtim.tv_nsec;
-  const long long now_ns = static_cast<long long>(now.tv_sec) * 1000000000LL + now.tv_nsec;
-  return now_ns - mtime_ns > 1000000000LL;
+  return nanoseconds(now) - nanoseconds(st.st_mtim) > 1000000000LL;
 }
 
 /// The cached digest if the attribute holds one for this size and mtime, else "".
