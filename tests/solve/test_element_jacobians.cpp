@@ -1,10 +1,10 @@
-// Each element's own analytic Jacobian (ForceElement::jacobian, force_element.hpp) against central differences
-// of its own evaluate(), element by element, built through the registry (issue 12, item 3).
+// Each element's own analytic Jacobian (ForceElement::jacobian, force_element.hpp) against central
+// differences of its own evaluate(), element by element, built through the registry (issue 12, item 3).
 //
 // Oracle: column c of [wrench rows; state rows] by central differences with the model's perturbations (dp, a
-// small global rotation dA = dtheta~ A of the marker axes, dv, domega per marker; z with z' += cj dz; the crank
-// angle), step h = 1e-6 (scaled by the magnitude of the perturbed value). Tolerance: for every entry
-// |J - J_fd| <= 1e-6 * (largest |J_fd| of that row), at several random marker motions per case; a row that
+// small global rotation dA = dtheta~ A of the marker axes, dv, domega per marker; z with z' += cj dz; the
+// crank angle), step h = 1e-6 (scaled by the magnitude of the perturbed value). Tolerance: for every entry |J
+// - J_fd| <= 1e-6 * (largest |J_fd| of that row), at several random marker motions per case; a row that
 // vanishes to round-off is measured against 1e-5 of the largest entry of the matrix instead (its differences
 // are noise).
 // test_jacobian.cpp checks the same elements through the whole model.
@@ -64,10 +64,18 @@ MarkerMotion random_motion(std::mt19937& rng, double spread = 0.1) {
 void perturb(MarkerMotion& m, int column, double h) {
   const int axis = column % 3;
   switch (column / 3) {
-    case 0: m.position[axis] += h; break;
-    case 1: m.axes = Eigen::AngleAxisd(h, Vec3::Unit(axis)).toRotationMatrix() * m.axes; break;
-    case 2: m.velocity[axis] += h; break;
-    default: m.angular_velocity[axis] += h; break;
+    case 0:
+      m.position[axis] += h;
+      break;
+    case 1:
+      m.axes = Eigen::AngleAxisd(h, Vec3::Unit(axis)).toRotationMatrix() * m.axes;
+      break;
+    case 2:
+      m.velocity[axis] += h;
+      break;
+    default:
+      m.angular_velocity[axis] += h;
+      break;
   }
 }
 
@@ -113,8 +121,10 @@ Result check(const ForceElement& e, const Point& p, double cj = 321.0) {
     if (c < 12 * nm) {
       const int k = c / 12, col = c % 12;
       const MarkerMotion& m = p.markers[k];
-      const double value = col < 3 ? m.position[col % 3] : col < 6 ? 0.0 : col < 9 ? m.velocity[col % 3]
-                                                                                  : m.angular_velocity[col % 3];
+      const double value = col < 3   ? m.position[col % 3]
+                           : col < 6 ? 0.0
+                           : col < 9 ? m.velocity[col % 3]
+                                     : m.angular_velocity[col % 3];
       h *= std::max(1.0, std::abs(value));
       perturb(plus.markers[k], col, h);
       perturb(minus.markers[k], col, -h);
@@ -133,7 +143,8 @@ Result check(const ForceElement& e, const Point& p, double cj = 321.0) {
   const double overall = jf.cwiseAbs().maxCoeff();
   for (int r = 0; r < rows; ++r) {
     // a row that vanishes to round-off (the reaction torque of a force along the line of the markers) is
-    // measured against 1e-5 of the largest entry of the whole matrix: the differences' own noise is ~1e-12 of it
+    // measured against 1e-5 of the largest entry of the whole matrix: the differences' own noise is ~1e-12 of
+    // it
     const double scale = std::max(jf.row(r).cwiseAbs().maxCoeff(), 1e-5 * overall);
     for (int c = 0; c < cols; ++c) {
       const double diff = std::abs(ja(r, c) - jf(r, c));
@@ -141,7 +152,9 @@ Result check(const ForceElement& e, const Point& p, double cj = 321.0) {
       if (err > res.worst) {
         std::ostringstream s;
         s << "row " << r << ", column " << c;
-        if (c < 12 * nm) s << " (marker " << c / 12 << " " << kColumn[(c % 12) / 3] << "_" << "xyz"[c % 3] << ")";
+        if (c < 12 * nm)
+          s << " (marker " << c / 12 << " " << kColumn[(c % 12) / 3] << "_"
+            << "xyz"[c % 3] << ")";
         s << ": analytic " << ja(r, c) << ", differences " << jf(r, c) << ", row scale " << scale;
         res.worst = err;
         res.where = s.str();
@@ -157,7 +170,8 @@ std::map<std::string, double>& worst_per_type() {
   return w;
 }
 
-void expect_matches(const ForceElement& e, const Point& p, const std::string& what, bool expect_nonzero = true) {
+void expect_matches(const ForceElement& e, const Point& p, const std::string& what,
+                    bool expect_nonzero = true) {
   const Result r = check(e, p);
   EXPECT_TRUE(r.analytic) << what << ": jacobian() returned false";
   EXPECT_LE(r.worst, kTolerance) << what << ": worst at " << r.where;
@@ -170,7 +184,9 @@ void expect_matches(const ForceElement& e, const Point& p, const std::string& wh
   w = std::max(w, r.worst);
 }
 
-Point two_random(std::mt19937& rng, double spread = 0.1) { return {{random_motion(rng, spread), random_motion(rng, spread)}, {}, {}}; }
+Point two_random(std::mt19937& rng, double spread = 0.1) {
+  return {{random_motion(rng, spread), random_motion(rng, spread)}, {}, {}};
+}
 
 // ---------------------------------------------------------------------------------------------------------------
 
@@ -190,7 +206,8 @@ TEST(ElementJacobians, Bushing) {
   k << "]\n";
   d << "]\n";
   const Built b = build("force", "bushing", k.str() + d.str(), {MarkerMotion{}, MarkerMotion{}});
-  for (int n = 0; n < 8; ++n) expect_matches(*b.element, two_random(rng), "bushing, random " + std::to_string(n));
+  for (int n = 0; n < 8; ++n)
+    expect_matches(*b.element, two_random(rng), "bushing, random " + std::to_string(n));
   // relative rotations from large (2.5 rad) down to none: the exact rotation-vector derivative and its
   // small-angle series (below 0.01 rad)
   for (double angle : {2.5, 1.0, 0.1, 0.02, 0.009, 1e-3, 1e-6, 0.0}) {
@@ -200,10 +217,12 @@ TEST(ElementJacobians, Bushing) {
     expect_matches(*b.element, p, "bushing, relative rotation " + std::to_string(angle) + " rad");
   }
   // the diagonal form too
-  const Built diag = build("force", "bushing", "stiffness = [1e5, 2e5, 3e5, 1e3, 2e3, 3e3]\n"
-                                               "damping = [10, 20, 30, 0.1, 0.2, 0.3]\n",
+  const Built diag = build("force", "bushing",
+                           "stiffness = [1e5, 2e5, 3e5, 1e3, 2e3, 3e3]\n"
+                           "damping = [10, 20, 30, 0.1, 0.2, 0.3]\n",
                            {MarkerMotion{}, MarkerMotion{}});
-  for (int n = 0; n < 4; ++n) expect_matches(*diag.element, two_random(rng), "diagonal bushing " + std::to_string(n));
+  for (int n = 0; n < 4; ++n)
+    expect_matches(*diag.element, two_random(rng), "diagonal bushing " + std::to_string(n));
 }
 
 // bearing-spring: random motions, and the journal turned about the bore's axis by up to several turns (where
@@ -224,8 +243,8 @@ TEST(ElementJacobians, BearingSpringMatchesDifferences) {
   }
 }
 
-// Contact: a point's origin (marker i = 0) against the plane of j (= 1, normal z_j). Velocities are set so that
-// the normal rate is as wanted (the clamp: separating fast enough that 1 + alpha delta' < 0).
+// Contact: a point's origin (marker i = 0) against the plane of j (= 1, normal z_j). Velocities are set so
+// that the normal rate is as wanted (the clamp: separating fast enough that 1 + alpha delta' < 0).
 void set_normal_rate(Point& p, double vn, int i = 0, int plane = 1) {
   const MarkerMotion& j = p.markers[plane];
   const Vec3 n = j.axes.col(2), d = p.markers[i].position - j.position;
@@ -242,8 +261,8 @@ void set_tangential(Point& p, double speed, std::mt19937& rng, int i = 0, int pl
   p.markers[i].velocity += speed * t - (vr - vr.dot(n) * n);
 }
 
-// The contact law's keys (contact, point-set-contact): alpha = 3 (1 - e) / (2 v_ref) = 12 s/m, the clamp (fn = 0)
-// for delta' < -1/12 m/s; Stribeck and regularization speeds within the random slip speeds.
+// The contact law's keys (contact, point-set-contact): alpha = 3 (1 - e) / (2 v_ref) = 12 s/m, the clamp (fn
+// = 0) for delta' < -1/12 m/s; Stribeck and regularization speeds within the random slip speeds.
 const std::string kContactLaw = R"(
 stiffness = 1.0e6
 exponent = 1.5
@@ -258,17 +277,20 @@ regularization_speed = 0.05
 TEST(ElementJacobians, ContactNormalFrictionOpenAndClamp) {
   const std::string& common = kContactLaw;
   // |d| <= 0.35 along z_j: clearance -0.5 keeps i 0.15 .. 0.85 m deep, +0.5 keeps it open
-  const Built in_contact = build("force", "contact", common + "clearance = -0.5\n", {MarkerMotion{}, MarkerMotion{}});
-  const Built open = build("force", "contact", common + "clearance = 0.5\n", {MarkerMotion{}, MarkerMotion{}});
+  const Built in_contact =
+      build("force", "contact", common + "clearance = -0.5\n", {MarkerMotion{}, MarkerMotion{}});
+  const Built open =
+      build("force", "contact", common + "clearance = 0.5\n", {MarkerMotion{}, MarkerMotion{}});
   const Built frictionless =
       build("force", "contact", "stiffness = 1.0e6\nexponent = 1.0\nrestitution = 0.5\nclearance = -0.5\n",
             {MarkerMotion{}, MarkerMotion{}});
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   for (int n = 0; n < 6; ++n) {
-    const std::string tag = std::string(" ").append(std::to_string(n));  // (" " + ... trips GCC 12 -Wrestrict)
+    const std::string tag =
+        std::string(" ").append(std::to_string(n));  // (" " + ... trips GCC 12 -Wrestrict)
     Point p = two_random(rng);
-    set_normal_rate(p, 0.05 * u(rng));  // |delta'| < 1/12: pressing or separating slowly, no clamp
+    set_normal_rate(p, 0.05 * u(rng));           // |delta'| < 1/12: pressing or separating slowly, no clamp
     set_tangential(p, 0.5 + u(rng) * 0.4, rng);  // sliding, the Stribeck range
     expect_matches(*in_contact.element, p, "contact sliding" + tag);
     set_tangential(p, 0.02 * (1.0 + u(rng)), rng);  // in the tanh's regularization (near sticking)
@@ -350,13 +372,13 @@ TEST(ElementJacobians, ValveSeatInContactWithRateClampAndOpen) {
 TEST(ElementJacobians, TableForce) {
   std::mt19937 rng(5);
   // breakpoints at +-0.6 and +-2 m: the random deflections (|x| <= 0.35) stay on the middle piece
-  const Built b = build("force", "table-force",
-                        "table = [[-2.0, 3.0e4], [-0.6, 1.0e4], [0.6, -2.0e4], [2.0, -3.0e4]]\n",
-                        {MarkerMotion{}, MarkerMotion{}});
+  const Built b =
+      build("force", "table-force", "table = [[-2.0, 3.0e4], [-0.6, 1.0e4], [0.6, -2.0e4], [2.0, -3.0e4]]\n",
+            {MarkerMotion{}, MarkerMotion{}});
   for (int n = 0; n < 8; ++n) expect_matches(*b.element, two_random(rng), "table force " + std::to_string(n));
   // beyond the table's ends (constant): only the direction's turning with z_j
-  const Built narrow =
-      build("force", "table-force", "table = [[-0.001, 50.0], [0.001, -50.0]]\n", {MarkerMotion{}, MarkerMotion{}});
+  const Built narrow = build("force", "table-force", "table = [[-0.001, 50.0], [0.001, -50.0]]\n",
+                             {MarkerMotion{}, MarkerMotion{}});
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   for (int n = 0; n < 4; ++n) {
     Point p = two_random(rng);
@@ -366,14 +388,14 @@ TEST(ElementJacobians, TableForce) {
   }
 }
 
-
 TEST(ElementJacobians, MotorAsForceAndAsDriver) {
   std::mt19937 rng(3);
   // breakpoints at +-1000 rpm (105 rad/s); the random relative speeds stay below 100 rpm
   const std::string curve = "table = [[-3000.0, 20.0], [-1000.0, 15.0], [1000.0, -5.0], [3000.0, -10.0]]\n";
   for (const std::string section : {"force", "driver"}) {
     const Built b = build(section, "motor", curve, {MarkerMotion{}, MarkerMotion{}});
-    for (int n = 0; n < 6; ++n) expect_matches(*b.element, two_random(rng), section + " motor " + std::to_string(n));
+    for (int n = 0; n < 6; ++n)
+      expect_matches(*b.element, two_random(rng), section + " motor " + std::to_string(n));
   }
 }
 
@@ -393,7 +415,9 @@ TEST(ElementJacobians, LoadsAgainstTimeCrankAngleAndHarmonic) {
       {"torque", "direction = [1.0, 0.0, 0.0]\ntable = [[0.0, 1.0], [1.0, 3.0]]\n"},
       {"force", "direction = [1.0, 2.0, 3.0]\naxes = \"marker\"\ntable = [[0.0, 1.0], [1.0, 3.0]]\n"},
       {"force", "direction = [0.0, 0.0, 1.0]\naxes = \"marker\"\namplitude = 5.0\nfrequency_hz = 30.0\n"},
-      {"torque", "direction = [0.0, 1.0, 1.0]\naxes = \"marker\"\namplitude = 5.0\nfrequency_hz = 30.0\nphase_deg = 20\n"},
+      {"torque",
+       "direction = [0.0, 1.0, 1.0]\naxes = \"marker\"\namplitude = 5.0\nfrequency_hz = 30.0\nphase_deg = "
+       "20\n"},
       {"torque", "direction = [0.0, 1.0, 1.0]\namplitude = 5.0\nfrequency_hz = 30.0\n"},
   };
   // crank angles (rad) away from the breakpoints: 1.9 deg (-15 wraps to 706.9: the wrap piece), 74, 401,
@@ -406,19 +430,21 @@ TEST(ElementJacobians, LoadsAgainstTimeCrankAngleAndHarmonic) {
       Point p{{random_motion(rng)}, {}, {}, 0.0123 + 0.1 * c * c, c};
       // loads along global axes against time have no dependence on any column: all zeros
       const bool moves = crank || cases[k].keys.find("\"marker\"") != std::string::npos;
-      expect_matches(*b.element, p, cases[k].type + " load " + std::to_string(k) + " at crank " + std::to_string(c),
-                     moves);
+      expect_matches(*b.element, p,
+                     cases[k].type + " load " + std::to_string(k) + " at crank " + std::to_string(c), moves);
     }
   }
 }
 
 TEST(ElementJacobians, SpringDampersForReference) {
   std::mt19937 rng(21);
-  const Built sd = build("force", "spring-damper", "k = 1e5\nd = 300\nkB = 2e5\ndB = 100\nxB = 0.01\nfree_length = 0.02\n",
-                         {MarkerMotion{}, MarkerMotion{}});
+  const Built sd =
+      build("force", "spring-damper", "k = 1e5\nd = 300\nkB = 2e5\ndB = 100\nxB = 0.01\nfree_length = 0.02\n",
+            {MarkerMotion{}, MarkerMotion{}});
   const Built tsd = build("force", "torsional-spring-damper", "k = 500.0\nd = 2.0\nangle0_deg = 10.0\n",
                           {MarkerMotion{}, MarkerMotion{}});
-  const Built mx = build("force", "maxwell", "k = 1e5\nc = 300\nfree_length = 0.02\n", {MarkerMotion{}, MarkerMotion{}});
+  const Built mx =
+      build("force", "maxwell", "k = 1e5\nc = 300\nfree_length = 0.02\n", {MarkerMotion{}, MarkerMotion{}});
   for (int n = 0; n < 4; ++n) {
     Point pm = two_random(rng);
     pm.z = {0.01 * n - 0.02};
@@ -490,29 +516,35 @@ TEST(ElementJacobians, MassChainAndValveSpringOpenAndInClash) {
 
 // Every registered element type has its analytic Jacobian (the journal bearing differentiates its film model
 // partly by differences and is checked in test_jacobian.cpp). A new type needs its keys here.
-// The roller on a cam: the roller's centre placed at a random angle on the pitch curve (cam::pitch_point), pushed
-// in along the normal by 3 mm (the differences step 1e-6 m must be small against it) and moved off the cam's plane, the cam turned and spinning at random,
-// the roller moving at random (pressing and separating slowly, below the clamp of the damping): on the tangent
-// cam's base circle, flanks and nose (the normal turns with the foot, except on the flanks), and on the eccentric.
+// The roller on a cam: the roller's centre placed at a random angle on the pitch curve (cam::pitch_point),
+// pushed in along the normal by 3 mm (the differences step 1e-6 m must be small against it) and moved off the
+// cam's plane, the cam turned and spinning at random, the roller moving at random (pressing and separating
+// slowly, below the clamp of the damping): on the tangent cam's base circle, flanks and nose (the normal
+// turns with the foot, except on the flanks), and on the eccentric.
 TEST(ElementJacobians, RollerCamOnEveryRegionOfTheProfile) {
   const std::string common = "roller_width = 0.015\nrestitution = 0.7\nroller_radius = 0.012\n";
   const Built tangent = build("force", "roller-cam",
-                              common + "profile = \"tangent\"\nbase_radius = 0.02\nnose_radius = 0.01\n"
-                                       "lobe_distance = 0.02\n",
+                              common +
+                                  "profile = \"tangent\"\nbase_radius = 0.02\nnose_radius = 0.01\n"
+                                  "lobe_distance = 0.02\n",
                               {MarkerMotion{}, MarkerMotion{}});
-  const Built eccentric = build("force", "roller-cam", common + "profile = \"eccentric\"\nbase_radius = 0.02\neccentricity = 0.005\n",
-                                {MarkerMotion{}, MarkerMotion{}});
-  const Built linear = build("force", "roller-cam", common + "stiffness = 1e8\nprofile = \"eccentric\"\nbase_radius = 0.02\neccentricity = 0.005\n",
-                             {MarkerMotion{}, MarkerMotion{}});
+  const Built eccentric = build(
+      "force", "roller-cam", common + "profile = \"eccentric\"\nbase_radius = 0.02\neccentricity = 0.005\n",
+      {MarkerMotion{}, MarkerMotion{}});
+  const Built linear =
+      build("force", "roller-cam",
+            common + "stiffness = 1e8\nprofile = \"eccentric\"\nbase_radius = 0.02\neccentricity = 0.005\n",
+            {MarkerMotion{}, MarkerMotion{}});
   const auto profile_of = [](const std::string& keys) {
     const input::Document doc = input::Document::parse(keys, "cam.toml");
     std::vector<std::filesystem::path> files;
     return cam::read_cam_profile(doc.root(), ".", files);
   };
-  const auto tangent_profile = profile_of("profile = \"tangent\"\nbase_radius = 0.02\nnose_radius = 0.01\n"
-                                          "lobe_distance = 0.02\nroller_radius = 0.012\n");
-  const auto eccentric_profile =
-      profile_of("profile = \"eccentric\"\nbase_radius = 0.02\neccentricity = 0.005\nroller_radius = 0.012\n");
+  const auto tangent_profile = profile_of(
+      "profile = \"tangent\"\nbase_radius = 0.02\nnose_radius = 0.01\n"
+      "lobe_distance = 0.02\nroller_radius = 0.012\n");
+  const auto eccentric_profile = profile_of(
+      "profile = \"eccentric\"\nbase_radius = 0.02\neccentricity = 0.005\nroller_radius = 0.012\n");
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   const auto place = [&](const cam::CamProfile& profile, double psi) {
@@ -524,19 +556,24 @@ TEST(ElementJacobians, RollerCamOnEveryRegionOfTheProfile) {
     p.markers[0].position = cam.position + cam.axes * local;
     // the roller's velocity relative to the cam's material point under it: along the normal within 1 mm/s
     const Vec3 n = cam.axes * Vec3(pp.nx, pp.ny, 0.0);
-    const Vec3 vr = p.markers[0].velocity - cam.velocity - cam.angular_velocity.cross(p.markers[0].position - cam.position);
+    const Vec3 vr = p.markers[0].velocity - cam.velocity -
+                    cam.angular_velocity.cross(p.markers[0].position - cam.position);
     p.markers[0].velocity += (1e-3 * u(rng) - n.dot(vr)) * n;
     return p;
   };
   // Cam angles theta (the lift's; psi = -theta): the nose is at 0, the flanks between about 32 and 60 deg.
   for (const double deg : {0.0, 15.0, 40.0, -45.0, 120.0, 200.0}) {
     const double psi = -deg * std::numbers::pi / 180;
-    expect_matches(*tangent.element, place(*tangent_profile, psi), "roller-cam, tangent cam at " + std::to_string(deg));
-    expect_matches(*eccentric.element, place(*eccentric_profile, psi), "roller-cam, eccentric at " + std::to_string(deg));
-    expect_matches(*linear.element, place(*eccentric_profile, psi), "roller-cam, linear law at " + std::to_string(deg));
+    expect_matches(*tangent.element, place(*tangent_profile, psi),
+                   "roller-cam, tangent cam at " + std::to_string(deg));
+    expect_matches(*eccentric.element, place(*eccentric_profile, psi),
+                   "roller-cam, eccentric at " + std::to_string(deg));
+    expect_matches(*linear.element, place(*eccentric_profile, psi),
+                   "roller-cam, linear law at " + std::to_string(deg));
   }
   Point open = place(*eccentric_profile, 0.3);
-  open.markers[0].position = open.markers[1].position + open.markers[1].axes * Vec3(0.06, 0.01, 0.0);  // lifted off
+  open.markers[0].position =
+      open.markers[1].position + open.markers[1].axes * Vec3(0.06, 0.01, 0.0);  // lifted off
   expect_matches(*eccentric.element, open, "roller-cam open", false);
 }
 
@@ -699,6 +736,62 @@ TEST(ElementJacobians, PistonLinerOnDeformableLinerMarkers) {
   }
 }
 
+// The flexible piston's skirt (piston-liner with `skirt` markers, docs/bearing.md section 18), alone and with
+// the liner markers of the test above: a grid of 3 levels x 6 angles on the skirt (radius 1 m about i's
+// axis), each marker displaced radially by up to 0.05 m and moving at random relative to i. The check is that
+// the chain rule to i's columns and the force transfer to the skirt markers and back to i are right.
+TEST(ElementJacobians, PistonLinerOnDeformableSkirtMarkers) {
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const double pi = std::numbers::pi;
+  for (const bool with_liner : {false, true}) {
+    std::vector<MarkerMotion> initial(2);  // i, j at the origin with identity axes
+    std::vector<std::string> bodies = {"piston", "block"};
+    auto ring = [&](const std::vector<double>& levels, double offset, const char* body) {
+      for (int b = 0; b < 6; ++b)
+        for (double z : levels) {
+          MarkerMotion m;
+          const double th = -pi + (b + offset) * pi / 3;
+          m.position = Vec3(std::cos(th), std::sin(th), z);
+          initial.push_back(m), bodies.push_back(body);
+        }
+    };
+    if (with_liner) ring({-0.12, -0.02, 0.09}, 0.3, "block");
+    const int first_skirt = static_cast<int>(initial.size());
+    ring({-0.04, 0.0, 0.05}, 0.1, "piston");
+    std::string skirt = "skirt = [";
+    for (int k = 0; k < 18; ++k) skirt += (k ? ", \"piston.s" : "\"piston.s") + std::to_string(k) + "\"";
+    const input::Document doc = input::Document::parse(kPistonLinerKeys + skirt + "]\n", "skirt.toml");
+    const input::Table t = doc.root();
+    std::vector<std::filesystem::path> files;
+    ElementContext c{t, ".", files, initial, bodies};
+    const auto element = builtin_elements().find("force", "piston-liner")->make(c);
+    ASSERT_EQ(element->marker_count(), static_cast<int>(initial.size()));
+    for (const double e : {0.1, 0.4}) {
+      Point p = two_random(rng);
+      const MarkerMotion& j = p.markers[1];
+      MarkerMotion& i = p.markers[0];
+      i.axes = Eigen::AngleAxisd(0.02 * u(rng), -j.axes.col(1)).toRotationMatrix() * j.axes;
+      i.position = j.position + (e + 0.01 * u(rng)) * j.axes.col(0) + 0.02 * u(rng) * j.axes.col(2);
+      i.velocity = j.velocity + j.angular_velocity.cross(i.position - j.position) + 1.5 * j.axes.col(2) +
+                   0.2 * u(rng) * j.axes.col(0);
+      for (std::size_t k = 2; k < initial.size(); ++k) {
+        const MarkerMotion& o = k < std::size_t(first_skirt) ? p.markers[1] : p.markers[0];
+        MarkerMotion m = random_motion(rng);
+        const Vec3 local = initial[k].position;
+        const Vec3 radial = Vec3(local.x(), local.y(), 0).normalized();
+        m.position = o.position + o.axes * (local + 0.05 * u(rng) * radial);
+        m.velocity =
+            o.velocity + o.angular_velocity.cross(m.position - o.position) + 0.3 * u(rng) * (o.axes * radial);
+        p.markers.push_back(m);
+      }
+      expect_matches(*element, p,
+                     std::string("piston-liner on skirt markers") + (with_liner ? " and liner markers" : "") +
+                         ", e = " + std::to_string(e));
+    }
+  }
+}
+
 // flat-face-cam: the face pressed 0.5 to 1.5 mm into the cam, at a random offset along the face, tilted up to
 // 0.05 rad out of the cam's plane (the projection's derivative), the cam turned and spinning at random, the
 // face sliding at random (friction with a Stribeck hump and a wide regularization, so that mu' enters) and
@@ -809,7 +902,8 @@ TEST(ElementJacobians, EveryRegisteredTypeIsAnalytic) {
     if (et->name == "journal-bearing") continue;
     seen.insert(name);
     const auto it = keys.find(name);
-    ASSERT_NE(it, keys.end()) << name << ": a registered type without keys in this test (add them, and its checks)";
+    ASSERT_NE(it, keys.end()) << name
+                              << ": a registered type without keys in this test (add them, and its checks)";
     // one marker per key, three for a list key (`name[]`, element_registry.hpp)
     std::size_t markers = 0;
     for (const auto& key : et->marker_keys) markers += key.ends_with("[]") ? 3 : key.ends_with("[]?") ? 0 : 1;
@@ -828,8 +922,8 @@ TEST(ElementJacobians, EveryRegisteredTypeIsAnalytic) {
   EXPECT_EQ(seen.size(), keys.size()) << "a type listed here is no longer registered";
   // The worst error per type over this test and the ones before it in the same run (docs/verification.md).
   for (const auto& [type, worst] : worst_per_type())
-    std::printf("measured: element Jacobian %-26s worst relative error %.2e (tolerance %.0e)\n", type.c_str(), worst,
-                kTolerance);
+    std::printf("measured: element Jacobian %-26s worst relative error %.2e (tolerance %.0e)\n", type.c_str(),
+                worst, kTolerance);
 }
 
 }  // namespace
