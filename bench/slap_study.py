@@ -7,6 +7,11 @@ impact (bench/slap_impact.py's definitions), the integrator statistics of /solve
                                       [--grids 16x12,24x18,32x24,48x36] [--skip-grids] [--skip-alpha]
                                       [--flexible] [--levels-only]
 
+--flexible-piston adds level (e), slap_flexible_piston.toml (the flexible piston's skirt in the film) at several
+mode counts (--piston-modes, default 6,16,30,all) and its rigid twin slap_piston_rigid.toml; it needs
+testdata/slap/piston_skirt.h5 (make_flexible_piston.py says how: condense, about 15 s) and writes
+OUT/slap_piston.png.
+
 --flexible adds level (d), slap_flexible.toml: the film on cylinder 4's liner of the flexible block. It needs
 testdata/slap/block.h5 (testdata/slap/make_flexible.py says how to make it: condense, about 1 min CPU and 3.9 GB)
 and takes a few minutes of CPU per cycle; it also prints the liner's deformation under the slap.
@@ -68,6 +73,65 @@ def describe_liner(f):
     print(f"{'':34s} liner: largest |u| under the skirt {1e6 * u.max():.3f} um over the cycle, {1e6 * u[k]:.3f} um "
           f"at {th[k]:.2f} deg in 360 - 380 deg; largest radial load on the liner markers {np.abs(load).max():.0f} N; "
           f"uncovered share up to {f['forces/skirt/liner_uncovered'][:].max():.3f}")
+
+
+def describe_piston(f):
+    """Level (e): the peak thrust-side force 360 - 380 deg, the minimum film 365 - 375 deg, the skirt's largest
+    radial deformation (skirt_displacement), the film's loss per cycle."""
+    th = f["crank_angle_deg"][:]
+    side = slap_impact.side_force(f)
+    m, m2 = (th >= 360) & (th <= 380), (th >= 365) & (th <= 375)
+    k = np.argmin(np.where(m, side, np.inf))
+    text = (f"peak thrust-side force {-side[k] / 1e3:.2f} kN at {th[k]:.2f} deg, min film "
+            f"{1e6 * f['forces/skirt/min_film'][:][m2].min():.2f} um (365 - 375 deg), film loss "
+            f"{np.trapz(f['forces/skirt/power_loss'][:], f['time'][:]):.3f} J per cycle")
+    if "skirt_displacement" in f["forces/skirt"]:
+        u = f["forces/skirt/skirt_displacement"][:]
+        j = np.argmax(u)
+        text += f"; skirt deformation up to {1e6 * u[j]:.1f} um at {th[j]:.1f} deg"
+    print(f"{'':34s} {text}")
+
+
+def piston_study(a, out):
+    """Level (e) at each mode count against the rigid twin; the chart of the pin's lateral motion, the side
+    force and the minimum film over the slap."""
+    runs = [("rigid twin", "slap_piston_rigid", None)]
+    for m in a.piston_modes.split(","):
+        runs.append((f"flexible, {m} modes", "slap_flexible_piston", None if m == "all" else int(m)))
+    results = []
+    print("== level (e): the flexible piston (piston_skirt.h5) against its rigid twin")
+    for label, name, modes in runs:
+        text = (SLAP / f"{name}.toml").read_text()
+        if modes is not None:
+            text = text.replace('superelement = "piston_skirt.h5"', f'superelement = "piston_skirt.h5"\nmodes = {modes}')
+        r = run(a.solve, text, f"{name}_{modes or 'all'}", out)
+        if r is None:
+            return None
+        describe(label, r)
+        describe_piston(r["h5"])
+        results.append((label, r))
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots(3, 1, figsize=(8, 9), sharex=True)
+    for label, r in results:
+        th, xp, tilt, film, side = channels(r["h5"])
+        m = (th >= 340) & (th <= 420)
+        ax[0].plot(th[m], 1e6 * xp[m], label=f"{label} ({r['cpu']:.0f} s/cycle)")
+        ax[1].plot(th[m], side[m] / 1e3)
+        ax[2].plot(th[m], 1e6 * film[m])
+    ax[0].set_ylabel("pin lateral x (um)")
+    ax[1].set_ylabel("side force (kN)")
+    ax[2].set_ylabel("min film (um)")
+    ax[2].set_xlabel("crank angle (deg, firing TDC 360)")
+    for x in ax:
+        x.grid(True, alpha=0.3)
+    ax[0].legend(fontsize=8)
+    fig.suptitle("Piston slap: the flexible piston's skirt in the film (level (e)) against its rigid twin")
+    fig.tight_layout()
+    fig.savefig(out / "slap_piston.png", dpi=110)
+    print(f"wrote {out / 'slap_piston.png'}")
+    return results
 
 
 def describe(label, r):
@@ -144,11 +208,20 @@ def main():
     ap.add_argument("--skip-alpha", action="store_true")
     ap.add_argument("--flexible", action="store_true", help="add level (d), the film on the flexible block")
     ap.add_argument("--levels-only", action="store_true", help="only the fidelity levels")
+    ap.add_argument("--flexible-piston", action="store_true",
+                    help="add level (e), the flexible piston, at several mode counts, and its rigid twin")
+    ap.add_argument("--piston-modes", default="6,16,30,all", help="level (e)'s mode counts (with --flexible-piston)")
+    ap.add_argument("--piston-only", action="store_true", help="only level (e) and its twin")
     a = ap.parse_args()
     levels = LEVELS + ([("d: film on the flexible block", "slap_flexible")] if a.flexible else [])
     out = pathlib.Path(a.out)
     out.mkdir(parents=True, exist_ok=True)
     print(f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores")
+    if a.flexible_piston or a.piston_only:
+        if piston_study(a, out) is None:
+            return 1
+        if a.piston_only:
+            return 0
     print("== fidelity levels (one 720 deg cycle each)")
     results = []
     for label, name in levels:
