@@ -104,13 +104,25 @@ struct ReductionSettings {
   /// load at the interfaces is represented exactly (reduction.cpp, residual_attachment_modes).
   bool residual_modes = false;
   bool residual_modes_given = false;  ///< the file said; otherwise default_residual_modes() decides
+  /// Craig-Bampton of a volume only: static residual vectors for unit forces along the surface normal at
+  /// these observation points (names; "prefix*" takes every point whose name starts with prefix), so that a
+  /// static load there - a film's pressure on a skirt - is represented exactly (reduction.cpp,
+  /// load_residual_vectors; Nastran's RESVEC). Empty: none.
+  std::vector<std::string> residual_vectors;
+  /// m: each point's unit load spread evenly over the surface nodes within this distance of it (each along
+  /// its own normal), a patch of pressure rather than a point force, whose local dent a solid's mesh would
+  /// resolve and a smooth pressure does not make. 0: the point's node alone.
+  double residual_patch = 0.0;
+  /// Keep the directions of the load points' residual flexibility down to this fraction of its largest.
+  double residual_tolerance = 1e-4;
+  SourceLocation residual_where;  ///< of residual_vectors, for messages
   /// Write the centrifugal geometric stiffness per product of the spin's components
   /// (geometric_stiffness.hpp), so that solve stiffens the body at its own spin.
   bool geometric_stiffening = false;
   /// Reduce at this spin (rad/s, component axes, about the component origin): the modes of
   /// K + K_G(spin). Zero: at rest. Implies geometric_stiffening.
   Vec3 spin{};
-  double damping_ratio = 0.0;                ///< modal damping ratio zeta of the retained modes
+  double damping_ratio = 0.0;  ///< modal damping ratio zeta of the retained modes
   /// The band the results must cover, Hz (0: not given). Given, condense estimates the error of the
   /// reduced model's receptance at every interface in (0, band] (frf_error.hpp); given without fmax and
   /// modes, it also chooses the cut-off: the lowest that brings the estimate below frf_tolerance.
@@ -118,7 +130,7 @@ struct ReductionSettings {
   double frf_tolerance = 0.01;  ///< relative error of the interface receptance the cut-off must reach
   int error_samples = 16;       ///< frequencies sampled in the band (at least one between resonances)
   SourceLocation band_where;    ///< of band, for messages
-  SourceLocation where;                      ///< of fmax or modes (or of the table), for messages
+  SourceLocation where;         ///< of fmax or modes (or of the table), for messages
   std::string where_key = "reduction.fmax";  ///< the key (or command-line option) that set the count
 };
 

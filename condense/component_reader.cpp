@@ -236,11 +236,26 @@ ReductionSettings read_reduction(const Table& t) {
   r.band_hz = band.value_or(0.0);
   r.band_where = band ? t.location("band") : t.location();
   r.frf_tolerance = t.number_or("frf_tolerance", 0.01, Range{0.0, 1.0, true, false});
-  r.error_samples = static_cast<int>(t.optional_integer("error_samples", Range::closed(1, 1000)).value_or(16));
+  r.error_samples =
+      static_cast<int>(t.optional_integer("error_samples", Range::closed(1, 1000)).value_or(16));
   const auto residual = t.optional_boolean("residual_modes");
   r.residual_modes_given = residual.has_value();
   r.residual_modes = residual.value_or(false);
   default_residual_modes(r);
+  if (t.has("residual_vectors")) {
+    r.residual_vectors = t.strings("residual_vectors");
+    r.residual_where = t.location("residual_vectors");
+    if (r.residual_vectors.empty())
+      t.fail("residual_vectors", "expected observation point names (\"prefix*\" for all that start so)");
+    if (r.method != ReductionMethod::kCraigBampton)
+      t.fail("residual_vectors", "residual vectors of load points need method = \"craig-bampton\"");
+  } else {
+    t.accept("residual_vectors");
+  }
+  r.residual_tolerance = t.number_or("residual_tolerance", 1e-4, Range{0.0, 1.0, false, false});
+  r.residual_patch = t.number_or("residual_patch", 0.0, Range::closed(0.0, 10.0));
+  if (r.residual_vectors.empty() && (t.has("residual_tolerance") || t.has("residual_patch")))
+    t.fail(t.has("residual_patch") ? "residual_patch" : "residual_tolerance", "only with residual_vectors");
   const auto rpm = t.optional_number("spin_speed_rpm", Range{0.0, 1e6, false, false});  // rev/min
   const auto axis = t.optional_vec3("spin_axis", Range::magnitude(1e6));
   if (axis && !rpm) t.fail("spin_axis", "spin_axis needs spin_speed_rpm (the speed to reduce at)");

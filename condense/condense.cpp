@@ -254,6 +254,56 @@ Superelement condense_component(const Component& c, EigenBackend backend, const 
     in.length_scale = model.nodes.empty() ? 1.0 : std::max(0.5 * (hi - lo).norm(), 1e-9);
   }
   collect_boundary(model, c.interfaces, interface_nodes, in.boundary_dofs, in.boundary_names);
+  if (!c.reduction.residual_vectors.empty()) {
+    // Unit forces along the surface normal at the named observation points (component.hpp)
+    if (!volume)
+      throw Error(
+          "residual_vectors need a volume's observation points (the load is along the surface normal)",
+          c.reduction.residual_where, "reduction.residual_vectors");
+    const std::vector<int> free_of = model.free_index();
+    std::vector<int> chosen;
+    for (const std::string& want : c.reduction.residual_vectors) {
+      const bool prefix = !want.empty() && want.back() == '*';
+      const std::string stem = prefix ? want.substr(0, want.size() - 1) : want;
+      bool found = false;
+      for (std::size_t i = 0; i < c.observers.size(); ++i) {
+        const std::string& name = c.observers[i].name;
+        if (prefix ? name.rfind(stem, 0) == 0 : name == want) {
+          found = true;
+          if (std::find(chosen.begin(), chosen.end(), static_cast<int>(i)) == chosen.end())
+            chosen.push_back(static_cast<int>(i));
+        }
+      }
+      if (!found)
+        throw Error("residual_vectors: no observation point " +
+                        (prefix ? "starts with \"" + stem + "\"" : "is named \"" + want + "\""),
+                    c.reduction.residual_where, "reduction.residual_vectors");
+    }
+    in.residual_loads = Eigen::MatrixXd::Zero(model.free_dofs(), static_cast<Eigen::Index>(chosen.size()));
+    const double patch = c.reduction.residual_patch;
+    for (std::size_t k = 0; k < chosen.size(); ++k) {
+      const int i = chosen[k], node = observer_nodes[i];
+      // the patch: the free surface nodes within `patch` of the point's node (at least the node itself)
+      std::vector<std::pair<int, Eigen::Vector3d>> loaded;
+      for (std::size_t s = 0; s < model.surface.nodes.size(); ++s) {
+        const int m = model.surface.nodes[s];
+        const bool free = free_of[6 * m] >= 0 && free_of[6 * m + 1] >= 0 && free_of[6 * m + 2] >= 0;
+        if (m == node || (patch > 0 && free && (model.nodes[m] - model.nodes[node]).norm() <= patch))
+          loaded.emplace_back(m, model.surface.normals.row(static_cast<Eigen::Index>(s)).transpose());
+      }
+      for (const auto& [m, normal] : loaded)
+        for (int a = 0; a < 3; ++a) {
+          const int f = free_of[6 * m + a];
+          if (f < 0)
+            throw Error("residual_vectors: observation point \"" + c.observers[i].name +
+                            "\" is on a held or coupled node",
+                        c.reduction.residual_where, "reduction.residual_vectors");
+          in.residual_loads(f, static_cast<Eigen::Index>(k)) +=
+              normal(a) / static_cast<double>(loaded.size());
+        }
+      in.residual_load_names.push_back(c.observers[i].name);
+    }
+  }
   in.constraints = model.constraint_matrix;
   if (in.constraints.rows() > 0) {
     log.info("distributing couplings: " + std::to_string(in.constraints.rows() / 6) +

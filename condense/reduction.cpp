@@ -251,12 +251,14 @@ ReducedModel modal_reduction(ReductionInput& in, const Logger& log) {
     K = in.stiffness;
     M = in.mass;
   }
-  EigenResult eig = solve_eigenproblem(std::move(in.stiffness), std::move(in.mass), request_for(s, rigid, in));
+  EigenResult eig =
+      solve_eigenproblem(std::move(in.stiffness), std::move(in.mass), request_for(s, rigid, in));
   const int found = static_cast<int>(eig.eigenvalues.size());
   if (found <= rigid) {
     // Nothing elastic below fmax: the eigen-solve found the first elastic mode above it.
     throw Error("fmax = " + hz(s.fmax_hz) + " is below the first elastic mode (" +
-                    hz(frequency_hz(eig.next_eigenvalue)) + "): no mode to keep; raise fmax or give modes = N",
+                    hz(frequency_hz(eig.next_eigenvalue)) +
+                    "): no mode to keep; raise fmax or give modes = N",
                 s.where, s.where_key);
   }
   const int m = found - rigid;
@@ -390,6 +392,62 @@ FrfErrorEstimate craig_bampton_frf_error(const ReductionInput& in, const std::ve
   return e;
 }
 
+/// Residual vectors of load points for Craig-Bampton (Nastran's RESVEC; Craig & Kurdila, Fundamentals of
+/// Structural Dynamics, 2nd ed. 2006, sec. 17.4, the residual flexibility of attachment modes, here with the
+/// interface held):
+///  (1) the interior's static response to each unit load with the interface held, X = K_ii^-1 F_i (on
+///      C_i u_i = 0 in multiplier form);
+///  (2) less its part in the kept fixed-interface modes phi (M_ii-orthonormal): X <- (I - phi phi^T M_ii) X,
+///      twice for round-off - the residual flexibility G_res F_i = (K_ii^-1 - phi Lambda^-1 phi^T) F_i;
+///  (3) compressed to the load space's directions of residual flexibility: F_i^T X = V D V^T (k x k,
+///      symmetric positive semi-definite), the columns X v_j with d_j > tolerance d_max kept - a film's
+///      smooth pressure needs a few of them, not one per point;
+///  (4) M_ii-orthonormalized (directions with a Gram eigenvalue below 1e-12 of unit-normalized columns
+///      dropped as dependent).
+/// span[Psi, phi, X] then holds u_i = Psi u_b + K_ii^-1 F_i f (to the dropped flexibility) for any interface
+/// motion u_b and loads f at the points: the static response to loads there is exact, as the constraint
+/// modes make it for loads at the interface.
+struct LoadResiduals {
+  Eigen::MatrixXd vectors;      // ni x kept
+  Eigen::VectorXd flexibility;  // d_j of (3), descending (m/N for unit forces)
+  int kept = 0;
+};
+LoadResiduals load_residual_vectors(const ConstrainedFactor& chol, const SparseMatrix& Mii,
+                                    const Eigen::MatrixXd& Fi, const Eigen::MatrixXd& phi, double tolerance) {
+  const int k = static_cast<int>(Fi.cols());
+  Eigen::MatrixXd x = chol.solve(Fi);  // with C_i u_i = 0 when the factor holds constraints
+  if (phi.cols() > 0)
+    for (int pass = 0; pass < 2; ++pass) x -= phi * (phi.transpose() * (Mii * x));
+  Eigen::MatrixXd flex = Fi.transpose() * x;
+  flex = 0.5 * (flex + flex.transpose()).eval();
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> d(flex);
+  LoadResiduals out;
+  out.flexibility = d.eigenvalues().reverse();
+  const double largest = out.flexibility.size() ? std::max(out.flexibility(0), 0.0) : 0.0;
+  std::vector<int> keep;
+  for (int j = k - 1; j >= 0; --j)
+    if (largest > 0 && d.eigenvalues()(j) > tolerance * largest) keep.push_back(j);
+  Eigen::MatrixXd y(x.rows(), static_cast<Eigen::Index>(keep.size()));
+  for (std::size_t c = 0; c < keep.size(); ++c)
+    y.col(static_cast<Eigen::Index>(c)) = x * d.eigenvectors().col(keep[c]);
+  for (Eigen::Index c = 0; c < y.cols(); ++c) {
+    const double norm = std::sqrt(y.col(c).dot(Mii * y.col(c)));
+    if (norm > 0) y.col(c) /= norm;
+  }
+  Eigen::MatrixXd gram = y.transpose() * (Mii * y);
+  gram = 0.5 * (gram + gram.transpose()).eval();
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> g(gram);
+  std::vector<int> independent;
+  for (Eigen::Index j = 0; j < gram.rows(); ++j)
+    if (g.eigenvalues()(j) > 1e-12) independent.push_back(static_cast<int>(j));
+  out.vectors.resize(y.rows(), static_cast<Eigen::Index>(independent.size()));
+  for (std::size_t c = 0; c < independent.size(); ++c)
+    out.vectors.col(static_cast<Eigen::Index>(c)) =
+        y * g.eigenvectors().col(independent[c]) / std::sqrt(g.eigenvalues()(independent[c]));
+  out.kept = static_cast<int>(out.vectors.cols());
+  return out;
+}
+
 ReducedModel craig_bampton(const ReductionInput& in, bool with_fixed_interface_modes, const Logger& log) {
   const ReductionSettings& s = in.settings;
   const SparseMatrix& K = in.stiffness;
@@ -471,8 +529,22 @@ ReducedModel craig_bampton(const ReductionInput& in, bool with_fixed_interface_m
     eigen_seconds = eig.iteration_seconds;
     eigen_solves = eig.matrix_operations;
   }
+  // Residual vectors of load points (load_residual_vectors above): after the fixed-interface modes.
+  Eigen::MatrixXd extra(ni, 0);
+  if (in.residual_loads.cols() > 0 && ni > 0) {
+    const Eigen::MatrixXd fi = rows_of(in.residual_loads, i_dofs);
+    const LoadResiduals res =
+        load_residual_vectors(*chol, submatrix(M, i_dofs, i_dofs), fi, phi, s.residual_tolerance);
+    extra = res.vectors;
+    std::ostringstream msg;
+    msg.precision(3);
+    msg << to_string(s.method) << ": " << res.kept << " residual vectors of " << fi.cols()
+        << " load points (residual flexibility " << (res.flexibility.size() ? res.flexibility(0) : 0.0)
+        << " m/N at most, kept down to " << s.residual_tolerance << " of it)";
+    log.info(msg.str());
+  }
   if (!(s.band_hz > 0.0)) chol.reset();  // the error estimate needs it; else free it before the basis
-  const int nm = static_cast<int>(phi.cols());
+  const int nm = static_cast<int>(phi.cols()), nx = static_cast<int>(extra.cols());
 
   ReducedModel r;
   r.fixed_interface_hz = fixed_hz;
@@ -480,14 +552,16 @@ ReducedModel craig_bampton(const ReductionInput& in, bool with_fixed_interface_m
   r.factor = factor;
   r.eigen_seconds = eigen_seconds;
   r.eigen_solves = eigen_solves;
-  r.basis = Eigen::MatrixXd::Zero(n, nb + nm);
+  r.basis = Eigen::MatrixXd::Zero(n, nb + nm + nx);
   for (int j = 0; j < nb; ++j) r.basis(b[j], j) = 1.0;
   for (int i = 0; i < ni; ++i) {
     r.basis.row(i_dofs[i]).head(nb) = psi.row(i);
-    r.basis.row(i_dofs[i]).tail(nm) = phi.row(i);
+    r.basis.row(i_dofs[i]).segment(nb, nm) = phi.row(i);
+    r.basis.row(i_dofs[i]).tail(nx) = extra.row(i);
   }
   r.coordinates = in.boundary_names;
   for (int j = 0; j < nm; ++j) r.coordinates.push_back("fixed-interface mode " + std::to_string(j + 1));
+  for (int j = 0; j < nx; ++j) r.coordinates.push_back("residual vector " + std::to_string(j + 1));
   r.stiffness = r.basis.transpose() * (K * r.basis);
   r.mass = r.basis.transpose() * (M * r.basis);
   r.stiffness = 0.5 * (r.stiffness + r.stiffness.transpose()).eval();

@@ -43,6 +43,10 @@ struct ReductionInput {
   EigenBackend backend = EigenBackend::kSpectra;
   EigenProgress progress;               ///< optional, handed to the eigen-solves
   Ordering ordering = Ordering::kAuto;  ///< fill-reducing ordering of every factorization
+  /// Craig-Bampton: unit loads (free DOF x k, one per column) whose static response the basis must hold:
+  /// load_residual_vectors (reduction.cpp) adds it; empty: none. Named for the log.
+  Eigen::MatrixXd residual_loads;
+  std::vector<std::string> residual_load_names;
   /// Length l that scales rotations in the error estimate (frf_error.hpp), m: the model's size.
   double length_scale = 1.0;
 };
