@@ -8,7 +8,8 @@ impact (bench/slap_impact.py's definitions), the integrator statistics of /solve
                                       [--flexible] [--levels-only]
 
 --flexible-piston adds level (e), slap_flexible_piston.toml (the flexible piston's skirt in the film) at several
-mode counts (--piston-modes, default 6,16,30,all) and its rigid twin slap_piston_rigid.toml; it needs
+mode counts (--piston-modes, default 6,16,30,all), on other condensations of the piston (--piston-residual H5,
+e.g. with residual vectors of the skirt points), and its rigid twin slap_piston_rigid.toml; it needs
 testdata/slap/piston_skirt.h5 (make_flexible_piston.py says how: condense, about 15 s) and writes
 OUT/slap_piston.png.
 
@@ -98,13 +99,18 @@ def piston_study(a, out):
     runs = [("rigid twin", "slap_piston_rigid", None)]
     for m in a.piston_modes.split(","):
         runs.append((f"flexible, {m} modes", "slap_flexible_piston", None if m == "all" else int(m)))
+    for path in a.piston_residual or []:
+        runs.append((f"flexible, {pathlib.Path(path).name}", "slap_flexible_piston", path))
     results = []
     print("== level (e): the flexible piston (piston_skirt.h5) against its rigid twin")
     for label, name, modes in runs:
         text = (SLAP / f"{name}.toml").read_text()
-        if modes is not None:
+        if isinstance(modes, int):
             text = text.replace('superelement = "piston_skirt.h5"', f'superelement = "piston_skirt.h5"\nmodes = {modes}')
-        r = run(a.solve, text, f"{name}_{modes or 'all'}", out)
+        elif modes is not None:  # another condensation of the piston (residual vectors), all its coordinates
+            text = text.replace('superelement = "piston_skirt.h5"', f'superelement = "{pathlib.Path(modes).resolve()}"')
+        tag = modes if isinstance(modes, int) else pathlib.Path(modes).stem if modes else "all"
+        r = run(a.solve, text, f"{name}_{tag}", out)
         if r is None:
             return None
         describe(label, r)
@@ -212,6 +218,9 @@ def main():
                     help="add level (e), the flexible piston, at several mode counts, and its rigid twin")
     ap.add_argument("--piston-modes", default="6,16,30,all", help="level (e)'s mode counts (with --flexible-piston)")
     ap.add_argument("--piston-only", action="store_true", help="only level (e) and its twin")
+    ap.add_argument("--piston-residual", action="append", metavar="H5",
+                    help="also run level (e) on this condensation of piston_skirt.toml (e.g. with residual_vectors), "
+                         "all its coordinates; repeatable")
     a = ap.parse_args()
     levels = LEVELS + ([("d: film on the flexible block", "slap_flexible")] if a.flexible else [])
     out = pathlib.Path(a.out)

@@ -7,6 +7,9 @@ make_scenes.py):
                                   film's grid); condense it to piston_skirt.h5 beside this file:
                                     build/condense/condense piston_skirt.toml -o piston_skirt.h5
                                   (about 15 s CPU, 0.7 GB)
+  piston_skirt_rv.toml            the same with 6 fixed-interface modes (to 10 kHz) and the residual vectors of
+                                  the 50 skirt points (6 mm patches): the skirt's static compliance exact, for
+                                  the mode-count check (bench/slap_study.py --piston-residual piston_skirt_rv.h5)
   slap_flexible_piston.toml  (e)  level (b) (slap_film.toml) with the piston as that Craig-Bampton superelement:
                                   the skirt's 50 points are the film's `skirt` markers (their radial deformation
                                   enters the film, the film's pressure goes back to them), the gas force acts
@@ -55,6 +58,15 @@ at = [{R * math.cos(math.radians(a)):.6f}, {-R * math.sin(math.radians(a)):.6f},
                         ", ".join(f"{z:g}" for z in LEVELS) + " m, angles from +x towards -y (deg)\n" + points +
                         "\n" + anchor, 1)
     (HERE / "piston_skirt.toml").write_text(head + "[component]" + rest)
+    # The same with the fixed-interface modes to 10 kHz only and residual vectors of the skirt's points
+    # (6 mm pressure patches): the static skirt compliance exact (docs/component-format.md section 5.4)
+    old = next(line for line in rest.splitlines() if line.startswith("fmax = 30000.0"))
+    rv = rest.replace(old, "fmax = 10000.0                # Hz: 6 fixed-interface modes ...\n"
+                      "residual_vectors = [\"sk_*\"]   # ... and the skirt points' residual vectors\n"
+                      "residual_patch = 0.006         # m: each a 6 mm pressure patch", 1)
+    rv_head = head.replace("# The slap family's flexible piston (level (e),",
+                           "# The slap family's flexible piston with residual vectors (level (e)'s convergence check,", 1)
+    (HERE / "piston_skirt_rv.toml").write_text(rv_head + "[component]" + rv)
 
 
 def scene(flexible):
