@@ -89,6 +89,9 @@ SPECIAL = {
                                             "-o", dst, "-q"],
     "scenes/simeon_rod.h5": lambda build, dst: ["/usr/bin/python3",
                                                 str(ROOT / "testdata" / "scenes" / "make_simeon_rod.py"), "-o", dst],
+    # the slap's flexible piston (testdata/slap/make_flexible_piston.py)
+    "slap/piston_skirt.h5": lambda build, dst: [str(build / "condense" / "condense"),
+                                                str(ROOT / "testdata" / "slap" / "piston_skirt.toml"), "-o", dst, "-q"],
     # the slap on the flexible block: the engine's block (testdata/engine/block.toml), condensed once for both
     "slap/block.h5": lambda build, dst: ["sh", "-c", f"make -s -f {ROOT}/Makefile.workflow OUT={Path(dst).parent.parent} "
                                                      f"BUILD_DIR={build} {Path(dst).parent.parent}/engine/block.h5 && "
