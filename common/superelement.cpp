@@ -199,6 +199,7 @@ void write_superelement(const std::filesystem::path& path, const SuperelementFil
   reduced.set_attribute("units", "generalized, as stiffness times s", "damping");
   reduced.set_attribute("damping_ratio", se.damping_ratio, "damping");
   reduced.set_attribute("description", "what each coordinate q_j is", "coordinates");
+  reduced.set_attribute("static_correction", static_cast<std::int64_t>(se.static_correction));
   if (!se.geometric_stiffness.empty()) {
     h5::Group g = reduced.create_group("geometric_stiffness");
     for (std::size_t p = 0; p < kSpinProducts.size(); ++p) {
@@ -321,6 +322,9 @@ SuperelementFile read_superelement(const std::filesystem::path& path) {
   se.damping = reduced.read_matrix("damping", hn, hn);
   se.damping_ratio = reduced.double_attribute("damping_ratio", "damping");
   se.coordinates = reduced.read_strings("coordinates");
+  se.static_correction = reduced.has_attribute("static_correction")
+                             ? static_cast<int>(reduced.int_attribute("static_correction"))
+                             : 0;
   if (reduced.exists("geometric_stiffness")) {
     const h5::Group g = reduced.open_group("geometric_stiffness");
     for (const char* name : kSpinProductNames) {

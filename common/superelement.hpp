@@ -71,9 +71,13 @@ struct SuperelementFile {
   int rigid_body_modes_removed = 0;
   int rigid_body_modes_contained = 0;
 
-  Eigen::VectorXd frequency_hz;              ///< /modes/frequency_hz, Hz
-  Eigen::VectorXd fixed_interface_hz;        ///< /modes/fixed_interface_hz (Craig-Bampton), Hz; else empty
-  std::vector<std::string> coordinates;      ///< /reduced/coordinates: what each q_j is
+  Eigen::VectorXd frequency_hz;          ///< /modes/frequency_hz, Hz
+  Eigen::VectorXd fixed_interface_hz;    ///< /modes/fixed_interface_hz (Craig-Bampton), Hz; else empty
+  std::vector<std::string> coordinates;  ///< /reduced/coordinates: what each q_j is
+  /// /reduced attribute static_correction: how many static-correction vectors condense put in the basis
+  /// (residual modes of a modal reduction, residual vectors of load points of a Craig-Bampton one); 0: none.
+  /// Dropping coordinates (solve's `modes`) drops their static correction.
+  int static_correction = 0;
   Eigen::MatrixXd mass, stiffness, damping;  ///< /reduced/*, n x n, generalized units
 
   /// /reduced/geometric_stiffness/<xx..zx>: empty, or the six n x n matrices K_ab of the centrifugal

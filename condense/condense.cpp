@@ -332,6 +332,7 @@ Superelement condense_component(const Component& c, EigenBackend backend, const 
   se.frequency_hz = r.frequency_hz;
   se.fixed_interface_hz = r.fixed_interface_hz;
   se.coordinates = r.coordinates;
+  se.static_correction = r.static_correction;
   se.mass = r.mass;
   se.stiffness = r.stiffness;
   se.damping = r.damping;

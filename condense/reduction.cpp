@@ -291,6 +291,7 @@ ReducedModel modal_reduction(ReductionInput& in, const Logger& log) {
                                                       eig.vectors.leftCols(rigid), r.basis, in.ordering);
   r.factor.add(res.factor);
   const int k = static_cast<int>(res.lambda.size());
+  r.static_correction = k;
   Eigen::MatrixXd basis(r.basis.rows(), m + k);
   basis << r.basis, res.vectors;
   Eigen::VectorXd all_lambda(m + k);
@@ -560,6 +561,7 @@ ReducedModel craig_bampton(const ReductionInput& in, bool with_fixed_interface_m
     r.basis.row(i_dofs[i]).tail(nx) = extra.row(i);
   }
   r.coordinates = in.boundary_names;
+  r.static_correction = nx;
   for (int j = 0; j < nm; ++j) r.coordinates.push_back("fixed-interface mode " + std::to_string(j + 1));
   for (int j = 0; j < nx; ++j) r.coordinates.push_back("residual vector " + std::to_string(j + 1));
   r.stiffness = r.basis.transpose() * (K * r.basis);

@@ -61,6 +61,8 @@ struct ReducedModel {
   Eigen::VectorXd frequency_hz;
   /// What each coordinate is: "mode 3", "main1.x", "fixed-interface mode 2".
   std::vector<std::string> coordinates;
+  /// Static-correction vectors in the basis: residual modes (modal) or residual vectors (Craig-Bampton).
+  int static_correction = 0;
   /// Rigid-body modes removed from the basis (modal, orthonormalized) or still contained in it (raw
   /// Craig-Bampton and Guyan of an unsupported component).
   int rigid_body_modes_removed = 0;

@@ -62,6 +62,7 @@ Advice advise(Scene& scene, const AdviceOptions& options, const Logger& log) {
   if (!(options.steps_per_period > 0) || !(options.cutoff_factor > 0))
     throw Error("advise: steps per period and the cut-off factor must be positive");
   Advice a;
+  a.warnings = scene.warnings;  // the reader's (a statically corrected superelement truncated)
   const double nyquist = scene.output.sample_rate_hz / 2;
   if (options.band_hz > 0) {
     a.band_hz = options.band_hz;
@@ -195,6 +196,8 @@ Advice advise(Scene& scene, const AdviceOptions& options, const Logger& log) {
     f.highest_used_hz = used.size() ? used.maxCoeff() : 0;
     f.highest_in_file_hz = all.size() ? all.maxCoeff() : 0;
     f.modes_needed = std::max(1, static_cast<int>((all.array() <= f.cutoff_hz).count()));
+    // A basis with static correction (residual modes or vectors above the band) needs all its coordinates.
+    if (flex->data().static_correction > 0) f.modes_needed = f.modes_in_file;
     const std::string file = flex->data().file.filename().string();
     if (f.highest_in_file_hz < f.cutoff_hz)
       a.warnings.push_back("flexible body '" + f.body + "': " + file + " holds modes to " +

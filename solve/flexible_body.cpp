@@ -58,7 +58,8 @@ Mat3 angular_rate_matrix(const Vec3& theta) {
 
 /// D(theta, z) = d(T(theta) z)/dtheta (3 x 3), T = angular_rate_matrix. With a = |theta|,
 ///   T z = z + c1 theta x z + c2 theta x (theta x z),   c1 = (1 - cos a)/a^2,  c2 = (a - sin a)/a^3,
-///   D = -c1 z~ + c2 ((theta.z) 1 + theta z^T - 2 z theta^T) + (g1 theta x z + g2 theta x (theta x z)) theta^T,
+///   D = -c1 z~ + c2 ((theta.z) 1 + theta z^T - 2 z theta^T) + (g1 theta x z + g2 theta x (theta x z))
+///   theta^T,
 /// g_i = (dc_i/da)/a (series below a = 0.05, where the closed forms lose digits to cancellation).
 /// d(T(theta)^T y)/dtheta = -D(-theta, y) (T(theta)^T = T(-theta): c1, c2 are even in a).
 Mat3 rate_derivative(const Vec3& theta, const Vec3& z) {
@@ -79,7 +80,8 @@ Mat3 rate_derivative(const Vec3& theta, const Vec3& z) {
     g2 = (a * (1 - std::cos(a)) - 3 * (a - std::sin(a))) / (a2 * a2 * a);
   }
   const Vec3 tz = theta.cross(z), ttz = theta.cross(tz);
-  return -c1 * skew(z) + c2 * (theta.dot(z) * Mat3::Identity() + theta * z.transpose() - 2 * z * theta.transpose()) +
+  return -c1 * skew(z) +
+         c2 * (theta.dot(z) * Mat3::Identity() + theta * z.transpose() - 2 * z * theta.transpose()) +
          (g1 * tz + g2 * ttz) * theta.transpose();
 }
 
@@ -131,6 +133,8 @@ FlexibleData load_flexible_data(const std::filesystem::path& file, int modes) {
 
   FlexibleData d;
   d.file = file;
+  d.coordinates_in_file = available;
+  d.static_correction = se.static_correction;
   d.mass = se.inertia.mass;
   d.first_moment = se.inertia.mass * se.inertia.center_of_mass;
   d.second_moment = se.inertia.second_moment;
@@ -358,9 +362,10 @@ MarkerMotion FlexibleBody::marker_motion(int marker, std::span<const double> q,
   return mm;
 }
 
-// [Jv w; Jw w] = marker_motion's velocity and angular velocity (both written as A (...)), without forming Jv, Jw.
-void FlexibleBody::marker_twist(int marker, std::span<const double> q, std::span<const double> w, Vec3& velocity,
-                                Vec3& angular_velocity) const {
+// [Jv w; Jw w] = marker_motion's velocity and angular velocity (both written as A (...)), without forming Jv,
+// Jw.
+void FlexibleBody::marker_twist(int marker, std::span<const double> q, std::span<const double> w,
+                                Vec3& velocity, Vec3& angular_velocity) const {
   const auto& pt = data_.points[point_of(marker)];
   const Mat3 a = rotation_matrix(vec4(q, 3));
   const auto eta = tail(q, 7, n_);
@@ -433,8 +438,8 @@ void FlexibleBody::momentum(std::span<const double> q, std::span<const double> w
 // ---------------------------------------------------------------- derivatives (analytic Jacobian, body.hpp)
 // Notation as above; for a marker on point P: u0, Phi_t, Phi_r (3 x n), s = u0 + Phi_t eta, theta_P =
 // Phi_r eta, T = T(theta_P) (angular_rate_matrix), D(theta, z) = d(T(theta) z)/dtheta (rate_derivative).
-// Theta = d(theta)/dp (rotation_sensitivity): a vector x = A x0 fixed in the body changes by dx = -x~ Theta dp,
-// and d(A^T y)/dp = A^T y~ Theta for a fixed global y.
+// Theta = d(theta)/dp (rotation_sensitivity): a vector x = A x0 fixed in the body changes by dx = -x~ Theta
+// dp, and d(A^T y)/dp = A^T y~ Theta for a fixed global y.
 
 // Q += Jv^T F + Jw^T T with Jv = [1, -A s~, A Phi_t], Jw = [0, A, A T Phi_r] (marker_jacobian):
 //   Q = [F;  s x (A^T F) + A^T T;  Phi_t^T A^T F + Phi_r^T T^T A^T T]   (Shabana 2005, eq. 5.127-5.130).
@@ -454,7 +459,8 @@ void FlexibleBody::add_wrench(int marker, std::span<const double> q, const Vec3&
 }
 
 // The marker's motion (marker_motion): p_P = r + A s, axes A exp(theta_P~) axes0,
-// v_P = v + A b with b = omega x s + Phi_t eta', omega_P = A c with c = omega + T Phi_r eta'. By q = [r, p, eta]:
+// v_P = v + A b with b = omega x s + Phi_t eta', omega_P = A c with c = omega + T Phi_r eta'. By q = [r, p,
+// eta]:
 //   dp_P     = [1,  -(A s)~ Theta,  A Phi_t]
 //   dtheta_m = [0,   Theta,         A T Phi_r]          (d exp(theta~) = (T dtheta)~ exp(theta~))
 //   dv_P     = [0,  -(A b)~ Theta,  A omega~ Phi_t]
@@ -517,7 +523,8 @@ void FlexibleBody::add_wrench_derivative(int marker, std::span<const double> q, 
 
 // Rows r' - v, p' - 1/2 L(p)^T omega + beta (p.p - 1) p, eta' - eta_rate (as RigidBody::kinematic_jacobian).
 void FlexibleBody::kinematic_jacobian(std::span<const double> q, std::span<const double> w_eff,
-                                      Eigen::Ref<Eigen::MatrixXd> d_q, Eigen::Ref<Eigen::MatrixXd> d_w) const {
+                                      Eigen::Ref<Eigen::MatrixXd> d_q,
+                                      Eigen::Ref<Eigen::MatrixXd> d_w) const {
   floating_frame_kinematic_jacobian(vec4(q, 3), vec3(w_eff, 3), kNormalizationRate, d_q, d_w);
   d_w.block(7, 6, n_, n_).diagonal().setConstant(-1.0);
 }
@@ -536,8 +543,9 @@ void FlexibleBody::kinematic_jacobian(std::span<const double> q, std::span<const
 //                + d((int rho s~ S) eta'')/deta + 2 d(tr(G) omega - G omega)/deta,
 //                dJ(u)_i = u_i sum_k dPsi_kk - sum_l u_l dPsi_il,  dG_ab/deta = (S_ba eta')^T
 //   dR_eta/dp  = S_bar^T A^T y~ Theta,   dR_eta/deta = K + sum_ab (omega~^2 + a_w~)_ab S_ab
-//   dR_r/domega  = A ((omega.mc) 1 + omega mc^T - 2 mc omega^T - 2 (S_bar eta')~),  dR_r/deta' = 2 A omega~ S_bar
-//   dR_om/domega = omega~ J - (J omega)~ + 2 (tr(G) 1 - G),   dR_om/deta'_i-row = 2 (omega_i sum_k P_kk - sum_b
+//   dR_r/domega  = A ((omega.mc) 1 + omega mc^T - 2 mc omega^T - 2 (S_bar eta')~),  dR_r/deta' = 2 A omega~
+//   S_bar dR_om/domega = omega~ J - (J omega)~ + 2 (tr(G) 1 - G),   dR_om/deta'_i-row = 2 (omega_i sum_k P_kk
+//   - sum_b
 //                  omega_b P_bi)^T
 //   dR_eta/domega_c = sum_b omega_b P_bc + sum_a omega_a P_ca - 2 omega_c sum_a P_aa + 2 (S_kj - S_jk) eta'
 //                  ((c, j, k) cyclic; the last term with full coupling),
@@ -640,7 +648,8 @@ void FlexibleBody::inertia_jacobian(std::span<const double> q, std::span<const d
   d_q.block(6, 7, n_, n_) = data_.stiffness;
   d_w.block(6, 6, n_, n_) = data_.damping;
   if (!data_.geometric.empty()) {
-    // K(omega) eta: d/deta = K_G(omega) - K_G(omega_ref); d/domega_c = sum_p d(omega_a omega_b)/domega_c K_p eta.
+    // K(omega) eta: d/deta = K_G(omega) - K_G(omega_ref); d/domega_c = sum_p d(omega_a omega_b)/domega_c K_p
+    // eta.
     const std::array<double, 6> c = spin_coefficients(omega);
     for (int k = 0; k < 6; ++k) {
       if (c[k] != 0.0) d_q.block(6, 7, n_, n_) += c[k] * data_.geometric[k];
@@ -655,7 +664,8 @@ void FlexibleBody::inertia_jacobian(std::span<const double> q, std::span<const d
     }
   }
   {
-    // d/domega, column c: sum_b omega_b P_bc + sum_a omega_a P_ca - 2 omega_c sum_a P_aa (+ full: 2 (S_kj - S_jk) eta')
+    // d/domega, column c: sum_b omega_b P_bc + sum_a omega_a P_ca - 2 omega_c sum_a P_aa (+ full: 2 (S_kj -
+    // S_jk) eta')
     Eigen::Matrix<double, 9, 3> xw = Eigen::Matrix<double, 9, 3>::Zero();
     for (int c = 0; c < 3; ++c)
       for (int b = 0; b < 3; ++b) {

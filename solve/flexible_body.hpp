@@ -11,11 +11,12 @@
 //   M(eta) w' + h(eta, w) = Q_gravity + Q_forces - [0; 0; K(omega) eta + D eta'],
 //   M = int rho J_P^T J_P dV,   h = int rho J_P^T A (omega x (omega x s) + 2 omega x S eta') dV,
 // and every integral is a combination of the superelement's inertia invariants (see flexible_body.cpp).
-// K(omega) = K + K_G(omega) - K_G(omega_ref) when the superelement carries the centrifugal geometric stiffness
-// (condense's geometric_stiffening): the prestress of the frame's spin omega (body axes) stiffens the modes,
-// the counterpart of the spin softening that h holds (Kane, Ryan & Banerjee, J. Guidance 10(2), 1987).
-// "linear" coupling drops the quadratic invariants S_kl everywhere except in the modal mass (Adams/Flex'
-// "partial coupling"): the body's inertia and the rotational coupling then follow eta to first order only.
+// K(omega) = K + K_G(omega) - K_G(omega_ref) when the superelement carries the centrifugal geometric
+// stiffness (condense's geometric_stiffening): the prestress of the frame's spin omega (body axes) stiffens
+// the modes, the counterpart of the spin softening that h holds (Kane, Ryan & Banerjee, J. Guidance 10(2),
+// 1987). "linear" coupling drops the quadratic invariants S_kl everywhere except in the modal mass
+// (Adams/Flex' "partial coupling"): the body's inertia and the rotational coupling then follow eta to first
+// order only.
 #include <array>
 #include <filesystem>
 #include <memory>
@@ -39,6 +40,8 @@ struct FlexibleData {
   std::array<Eigen::VectorXd, 9> position;                 // I_tilde_kl = int rho x_k S_l dV, [3 k + l] (n)
   std::array<Eigen::MatrixXd, 9> quadratic;                // S_kl = int rho S_k^T S_l dV, [3 k + l] (n x n)
   Eigen::VectorXd frequency_hz;                            // of the selected coordinates (information)
+  int coordinates_in_file = 0;  // elastic coordinates the file offers (the selection may take fewer)
+  int static_correction = 0;    // the file's static-correction vectors (SuperelementFile::static_correction)
   // Centrifugal geometric stiffness (empty, or six n x n matrices for the products omega_a omega_b in the
   // order xx yy zz xy yz zx; per (rad/s)^2) and the spin the stiffness was reduced at (rad/s, component
   // axes): K(omega) = K + sum_p (omega_a omega_b - ref_a ref_b) K_p (docs/hdf5-format.md, /reduced).
@@ -80,8 +83,8 @@ class FlexibleBody final : public Body {
   /// Blockwise from the invariants, without forming M(q); no heap allocation (the workspace below).
   void inertia_residual(std::span<const double> q, std::span<const double> w, std::span<const double> wdot,
                         const Vec3& gravity, std::span<double> rows) const override;
-  using Body::mass_matrix;      // the allocating overloads, hidden otherwise
   using Body::marker_jacobian;
+  using Body::mass_matrix;  // the allocating overloads, hidden otherwise
   void mass_matrix(std::span<const double> q, Eigen::Ref<Eigen::MatrixXd> m) const override;
   MarkerMotion marker_motion(int marker, std::span<const double> q, std::span<const double> w) const override;
   void marker_jacobian(int marker, std::span<const double> q, Eigen::Ref<Mat3X> jv,
@@ -103,8 +106,8 @@ class FlexibleBody final : public Body {
                           Eigen::Ref<Eigen::MatrixXd> out) const override;
   void add_wrench_derivative(int marker, std::span<const double> q, const Vec3& force, const Vec3& torque,
                              Eigen::Ref<Eigen::MatrixXd> out) const override;
-  void kinematic_jacobian(std::span<const double> q, std::span<const double> w_eff, Eigen::Ref<Eigen::MatrixXd> d_q,
-                          Eigen::Ref<Eigen::MatrixXd> d_w) const override;
+  void kinematic_jacobian(std::span<const double> q, std::span<const double> w_eff,
+                          Eigen::Ref<Eigen::MatrixXd> d_q, Eigen::Ref<Eigen::MatrixXd> d_w) const override;
   void inertia_jacobian(std::span<const double> q, std::span<const double> w, std::span<const double> wdot,
                         const Vec3& gravity, Eigen::Ref<Eigen::MatrixXd> d_q,
                         Eigen::Ref<Eigen::MatrixXd> d_w) const override;
@@ -136,17 +139,17 @@ class FlexibleBody final : public Body {
   int n_;
   int builtin_markers_;
   std::vector<int> user_points_;
-  Eigen::MatrixXd position_cols_;          // n x 9: column 3a+b = I_tilde_ab (data_.position, packed)
+  Eigen::MatrixXd position_cols_;  // n x 9: column 3a+b = I_tilde_ab (data_.position, packed)
   // Workspace of the inertial rows and their derivatives (sized in the constructor; the body is not
   // thread-safe, as the model).
-  mutable Eigen::MatrixXd ws_s_eta_;       // n x 9: column 3a+b = S_ab eta
-  mutable Eigen::MatrixXd ws_s_rate_;      // n x 9: column 3a+b = S_ab eta'
-  mutable Eigen::MatrixXd ws_s_acc_;       // n x 9: column 3a+b = S_ab eta''
-  mutable Eigen::MatrixXd ws_p_;           // n x 9: column 3a+b = P_ab(eta) = I_tilde_ab + S_ba eta
-  mutable Eigen::MatrixXd ws_dpsi_;        // n x 9: column 3k+l = dPsi_kl/deta
+  mutable Eigen::MatrixXd ws_s_eta_;   // n x 9: column 3a+b = S_ab eta
+  mutable Eigen::MatrixXd ws_s_rate_;  // n x 9: column 3a+b = S_ab eta'
+  mutable Eigen::MatrixXd ws_s_acc_;   // n x 9: column 3a+b = S_ab eta''
+  mutable Eigen::MatrixXd ws_p_;       // n x 9: column 3a+b = P_ab(eta) = I_tilde_ab + S_ba eta
+  mutable Eigen::MatrixXd ws_dpsi_;    // n x 9: column 3k+l = dPsi_kl/deta
   mutable Eigen::Matrix<double, 3, Eigen::Dynamic> ws_3n_;  // 3 x n
-  mutable Eigen::VectorXd ws_n_;           // n: D eta' (dissipated_power), K eta (strain_energy)
-  mutable Eigen::MatrixXd ws_geo_;         // n x 6: K_p eta (geometric stiffness)
+  mutable Eigen::VectorXd ws_n_;    // n: D eta' (dissipated_power), K eta (strain_energy)
+  mutable Eigen::MatrixXd ws_geo_;  // n x 6: K_p eta (geometric stiffness)
   /// Coefficients omega_a omega_b - ref_a ref_b of the geometric stiffness matrices.
   std::array<double, 6> spin_coefficients(const Vec3& omega) const;
 };

@@ -85,7 +85,8 @@ int main(int argc, char** argv) {
   using namespace nvh::solve;
   install_interrupt_handler("solve");
 #ifdef NVH_HAVE_BEARING_MAP
-  if (argc > 1 && std::strcmp(argv[1], "bearing-map") == 0) return nvh::bearing::bearing_map_main(argc - 1, argv + 1);
+  if (argc > 1 && std::strcmp(argv[1], "bearing-map") == 0)
+    return nvh::bearing::bearing_map_main(argc - 1, argv + 1);
 #endif
   CLI::App app{kDescription, "solve"};
   app.get_formatter()->column_width(34);
@@ -107,7 +108,8 @@ int main(int argc, char** argv) {
       ->needs(advise_flag);
   output_option->excludes(advise_flag);
   app.add_flag("--restart", restart, "continue an interrupted run from the checkpoint in the results file");
-  app.add_option("--progress", progress_style, "progress display: auto (bar on a terminal, lines in logs), bar, lines, none")
+  app.add_option("--progress", progress_style,
+                 "progress display: auto (bar on a terminal, lines in logs), bar, lines, none")
       ->check(CLI::IsMember({"auto", "bar", "lines", "none"}));
   CLI::Option* quiet_flag = app.add_flag("-q,--quiet", quiet, "print errors only");
   app.add_flag("-v,--verbose", verbose, "print more detail")->excludes(quiet_flag);
@@ -136,6 +138,7 @@ int main(int argc, char** argv) {
     check_outputs_are_not_inputs({output_file}, {scene_file});
     check_output_writable(output_file);
     Scene scene = read_scene(scene_file);
+    for (const std::string& w : scene.warnings) log.warning(w);
     check_outputs_are_not_inputs({output_file}, scene.input_files);
     const Provenance provenance = make_provenance("solve", argc, argv, scene.input_files);
     RunOptions options;
@@ -157,8 +160,9 @@ int main(int argc, char** argv) {
     std::ostringstream out;
     out << (s.status == "complete" ? "wrote " : "interrupted; kept ") << output_file << ": " << s.samples
         << " samples to t = " << s.end_time << " s; " << s.statistics.steps << " steps ("
-        << s.statistics.rejected_steps << " rejected), " << s.statistics.newton_iterations << " Newton iterations, "
-        << s.statistics.jacobian_evaluations << " Jacobians, " << s.wall_seconds << " s";
+        << s.statistics.rejected_steps << " rejected), " << s.statistics.newton_iterations
+        << " Newton iterations, " << s.statistics.jacobian_evaluations << " Jacobians, " << s.wall_seconds
+        << " s";
     if (!scene.model.constraints.empty())
       out << "; constraint drift at most " << s.max_position_drift << " (position), " << s.max_velocity_drift
           << " (velocity)";

@@ -31,7 +31,9 @@ const Range kMass{0.0, bounds::kMass, true, false};
 const Range kAngleDeg = Range::magnitude(bounds::kAngleDeg);
 const Range kTime = Range::magnitude(bounds::kTime);
 
-Vec3 to_vec(const std::array<double, 3>& a) { return {a[0], a[1], a[2]}; }
+Vec3 to_vec(const std::array<double, 3>& a) {
+  return {a[0], a[1], a[2]};
+}
 
 /// A number for messages: "0.1", "1e+09", "12345".
 std::string format_number(double x) {
@@ -99,17 +101,20 @@ class SceneReader {
       } else if (in.size() == 6) {  // Ixx Iyy Izz Ixy Ixz Iyz (tensor components, not products of inertia)
         j << in[0], in[3], in[4], in[3], in[1], in[5], in[4], in[5], in[2];
       } else {
-        t.fail("inertia", "expected 3 numbers [Ixx, Iyy, Izz] or 6 [Ixx, Iyy, Izz, Ixy, Ixz, Iyz] in kg m^2, got " +
-                              std::to_string(in.size()));
+        t.fail("inertia",
+               "expected 3 numbers [Ixx, Iyy, Izz] or 6 [Ixx, Iyy, Izz, Ixy, Ixz, Iyz] in kg m^2, got " +
+                   std::to_string(in.size()));
       }
       Eigen::SelfAdjointEigenSolver<Mat3> eig(j);
       const Vec3 ev = eig.eigenvalues();
       if (ev.minCoeff() <= 0)
         t.fail("inertia", "the inertia tensor must be positive definite; its principal moments are " +
-                              std::to_string(ev[0]) + ", " + std::to_string(ev[1]) + ", " + std::to_string(ev[2]));
+                              std::to_string(ev[0]) + ", " + std::to_string(ev[1]) + ", " +
+                              std::to_string(ev[2]));
       if (ev[0] + ev[1] < ev[2] * (1 - 1e-9))
-        t.fail("inertia", "the principal moments violate the triangle inequality (I1 + I2 >= I3): no real body "
-                          "has them");
+        t.fail("inertia",
+               "the principal moments violate the triangle inequality (I1 + I2 >= I3): no real body "
+               "has them");
       if (t.has("orientation")) {
         const auto p = t.numbers("orientation", kDirection);
         if (p.size() != 4) t.fail("orientation", "expected 4 Euler parameters [e0, e1, e2, e3]");
@@ -133,11 +138,25 @@ class SceneReader {
         init.orientation = rotation_matrix(pv.normalized());
       }
       body = make_flexible_body(t, name, init, base_, s_.input_files);
+      // Fewer coordinates than a file with static correction holds drop that correction (its vectors lie
+      // above the band, or are mixed into the orthonormalized modes): allowed, but say so.
+      const FlexibleData& d = static_cast<const FlexibleBody&>(*body).data();
+      if (d.static_correction > 0 && d.size() < d.coordinates_in_file) {
+        const SourceLocation at = t.location("modes");
+        s_.warnings.push_back(
+            at.file + ":" + std::to_string(at.line) + ": flexible body '" + name + "' uses " +
+            std::to_string(d.size()) + " of the " + std::to_string(d.coordinates_in_file) +
+            " coordinates of " + d.file.filename().string() + ", whose basis holds " +
+            std::to_string(d.static_correction) +
+            " static-correction vectors (residual modes or vectors): loads at its points are "
+            "no longer statically exact; leave `modes` out to use them all");
+      }
     }
     for (const auto& m : t.table_array("marker")) {
       MarkerDefinition md;
       md.name = m.name("name");
-      if (body->find_marker(md.name) >= 0) m.fail("name", "marker '" + md.name + "' is defined twice on body '" + name + "'");
+      if (body->find_marker(md.name) >= 0)
+        m.fail("name", "marker '" + md.name + "' is defined twice on body '" + name + "'");
       md.position = to_vec(m.optional_vec3("at", kPosition).value_or(std::array<double, 3>{0, 0, 0}));
       const Vec3 z = to_vec(m.optional_vec3("z", kDirection).value_or(std::array<double, 3>{0, 0, 1}));
       const Vec3 x = to_vec(m.optional_vec3("x", kDirection).value_or(std::array<double, 3>{1, 0, 0}));
@@ -156,8 +175,7 @@ class SceneReader {
   MarkerRef marker(const Table& t, std::string_view key) const { return marker(t, key, t.string(key)); }
   MarkerRef marker(const Table& t, std::string_view key, const std::string& full) const {
     const auto dot = full.find('.');
-    if (dot == std::string::npos)
-      t.fail(key, "expected a marker as \"body.marker\", got \"" + full + "\"");
+    if (dot == std::string::npos) t.fail(key, "expected a marker as \"body.marker\", got \"" + full + "\"");
     const std::string bname = full.substr(0, dot), mname = full.substr(dot + 1);
     const auto it = body_index_.find(bname);
     if (it == body_index_.end()) {
@@ -189,7 +207,8 @@ class SceneReader {
   }
 
   // ------------------------------------------------------------------ joints and drivers
-  void add_constraint(const Table& t, std::string name, std::unique_ptr<Constraint> c, MarkerRef i, MarkerRef j) {
+  void add_constraint(const Table& t, std::string name, std::unique_ptr<Constraint> c, MarkerRef i,
+                      MarkerRef j) {
     if (i.body == j.body) t.fail("j", "markers i and j are on the same body: a joint connects two bodies");
     s_.model.constraints.push_back({std::move(name), std::move(c), i, j, 0, {}});
   }
@@ -210,7 +229,8 @@ class SceneReader {
       // The link's length: given, or the markers' initial distance (the geometry as drawn).
       const double initial = (initial_motion(i).position - initial_motion(j).position).norm();
       const double length = t.optional_number("length", Range::positive()).value_or(initial);
-      if (!(length > 0)) t.fail("i", "the markers of a distance joint start at one point: give its 'length' (m)");
+      if (!(length > 0))
+        t.fail("i", "the markers of a distance joint start at one point: give its 'length' (m)");
       c = make_distance_joint(length);
     } else if (type == "in-plane") {
       c = make_in_plane_joint(t.optional_number("offset", Range::magnitude(1e3)).value_or(0.0));
@@ -245,13 +265,15 @@ void SceneReader::read_driver(const Table& t) {
   for (const auto& n : builtin_elements().names("driver")) types.push_back(n);
   const std::string type = t.choice("type", types);
   if (type == "displacement") return read_displacement_driver(t);
-  if (type != "speed" && type != "lift") return read_element(t, "driver");  // a torque-speed curve: a force element
+  if (type != "speed" && type != "lift")
+    return read_element(t, "driver");  // a torque-speed curve: a force element
   const std::string name = t.name("name");
   const MarkerRef i = marker(t, "i"), j = marker(t, "j");
-  // Prescribed speed: the angle theta(t) = theta0 + integral of omega(t); theta0 is the initial angle of i about
-  // z_j (speed) or `phase_deg`, the cam angle at the start (lift).
-  const double theta0 = type == "speed" ? relative_angle(initial_motion(i), initial_motion(j))
-                                        : t.number_or("phase_deg", 0.0, Range::magnitude(bounds::kAngleDeg)) * kPi / 180;
+  // Prescribed speed: the angle theta(t) = theta0 + integral of omega(t); theta0 is the initial angle of i
+  // about z_j (speed) or `phase_deg`, the cam angle at the start (lift).
+  const double theta0 = type == "speed"
+                            ? relative_angle(initial_motion(i), initial_motion(j))
+                            : t.number_or("phase_deg", 0.0, Range::magnitude(bounds::kAngleDeg)) * kPi / 180;
   std::function<double(double)> theta, rate;
   constexpr double kRpm = 2 * kPi / 60.0;
   // The lift driver turns at a constant speed: its `table` and `file` keys are the cam profile's.
@@ -331,7 +353,8 @@ void SceneReader::read_element(const Table& t, const std::string& section) {
   std::unique_ptr<ForceElement> e = et.make(context);
   t.finish();
   if (!lists && markers.size() == 2 && markers[0].body == markers[1].body)  // lists: the element checks them
-    t.fail(et.marker_keys.back(), "markers i and j are on the same body: a force element connects two bodies");
+    t.fail(et.marker_keys.back(),
+           "markers i and j are on the same body: a force element connects two bodies");
   for (const auto& f : s_.model.forces)
     if (f.name == name) t.fail("name", "a force, load or driver named '" + name + "' is defined twice");
   if (e->uses_crank_angle()) {
@@ -345,7 +368,9 @@ void SceneReader::read_clock(const Table& root) {
   const auto c = root.optional_table("clock");
   const bool steady = root.has("steady_state");
   if (!c) {
-    if (needs_clock_) clock_user_->fail("abscissa", "a load against crank angle needs a [clock] that defines the crank angle");
+    if (needs_clock_)
+      clock_user_->fail("abscissa",
+                        "a load against crank angle needs a [clock] that defines the crank angle");
     if (steady) return;  // a steady state over a period in s needs no clock: it sets the end
     root.fail("the scene needs a [clock] with end_time (s), or i/j markers and end_angle_deg or end_cycles");
   }
@@ -358,7 +383,8 @@ void SceneReader::read_clock(const Table& root) {
     def.zero_angle = c->number_or("zero_deg", 0.0, kAngleDeg) * kPi / 180.0;
     s_.model.clock = def;
   } else if (needs_clock_) {
-    clock_user_->fail("abscissa", "a load against crank angle needs [clock] i and j markers (the crank's rotation)");
+    clock_user_->fail("abscissa",
+                      "a load against crank angle needs [clock] i and j markers (the crank's rotation)");
   }
   const int ends = c->has("end_time") + c->has("end_angle_deg") + c->has("end_cycles");
   if (steady) {  // the run ends when it has converged or after max_cycles ([steady_state], steady_state.hpp)
@@ -376,7 +402,9 @@ void SceneReader::read_clock(const Table& root) {
   if (c->has("end_time")) {
     s_.end_time = c->number("end_time", Range{s_.start_time, bounds::kTime, true, false});
   } else {
-    if (!s_.model.clock) c->fail(c->has("end_angle_deg") ? "end_angle_deg" : "end_cycles", "an end by angle needs the clock's i and j markers");
+    if (!s_.model.clock)
+      c->fail(c->has("end_angle_deg") ? "end_angle_deg" : "end_cycles",
+              "an end by angle needs the clock's i and j markers");
     // The end angle is bounded like a time: 1e12 deg are some 3e9 turns.
     const double cycle = c->number_or("cycle_deg", 720.0, Range{0.0, bounds::kAngleDeg, true, false});
     s_.end_angle_deg = c->has("end_angle_deg")
@@ -493,7 +521,8 @@ void SceneReader::read_output(const Table& root) {
     o.sample_rate_hz =
         t->number_or("sample_rate_hz", o.sample_rate_hz, Range{0.0, bounds::kFrequencyHz, true, false});
 
-    o.chunk_samples = static_cast<int>(t->optional_integer("chunk_samples", Range::closed(1, 1e7)).value_or(o.chunk_samples));
+    o.chunk_samples = static_cast<int>(
+        t->optional_integer("chunk_samples", Range::closed(1, 1e7)).value_or(o.chunk_samples));
     o.bodies = t->optional_boolean("bodies").value_or(true);
     o.forces = t->optional_boolean("forces").value_or(true);
     o.joints = t->optional_boolean("joints").value_or(true);
@@ -505,7 +534,8 @@ void SceneReader::read_output(const Table& root) {
         const auto it = dot == std::string::npos ? body_index_.end() : body_index_.find(name.substr(0, dot));
         if (it == body_index_.end() || s_.model.bodies[it->second]->find_marker(name.substr(dot + 1)) < 0)
           t->fail("markers", "no marker '" + name + "' (markers are named \"body.marker\")");
-        s_.output_markers.push_back({it->second, s_.model.bodies[it->second]->find_marker(name.substr(dot + 1))});
+        s_.output_markers.push_back(
+            {it->second, s_.model.bodies[it->second]->find_marker(name.substr(dot + 1))});
         s_.marker_names.push_back(name);
       }
     }

@@ -136,6 +136,8 @@ TEST_F(ResidualVectorBar, PointLoadsAreStaticallyExact) {
   int with_count = 0, without_count = 0;
   const Superelement with = condense_component(bar({"p_*"}, 0.0), EigenBackend::kSpectra, kQuiet);
   const Superelement without = condense_component(bar({}, 0.0), EigenBackend::kSpectra, kQuiet);
+  EXPECT_EQ(with.static_correction, 2) << "the file counts its residual vectors (/reduced static_correction)";
+  EXPECT_EQ(without.static_correction, 0);
   for (const Eigen::Vector4d& f : {Eigen::Vector4d(-1, 0, 0, 0), Eigen::Vector4d(0, -1, 0, 0)}) {
     const Eigen::Vector4d reference = full(f);
     const Eigen::Vector4d a = reduced(with, f, &with_count), b = reduced(without, f, &without_count);

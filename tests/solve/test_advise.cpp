@@ -228,6 +228,47 @@ TEST(Advise, FlexibleBodyModesAreTheSuperelementsStoredOnes) {
   EXPECT_EQ(a.flexible[0].modes_needed, std::max<Eigen::Index>(1, needed));
 }
 
+// A superelement whose basis holds static correction (testdata/scenes/flexible_beam.toml reduced modal, 4
+// modes, with the residual modes of its two interfaces): the file says how many (/reduced static_correction);
+// a scene that takes fewer coordinates than the file has gets a warning naming the body, the file and the
+// key, and the advice asks for all of them; a scene that takes them all gets none.
+TEST(Advise, TruncatingAStaticallyCorrectedSuperelementIsWarned) {
+  const fs::path file = testing::temp_path("advise_beam_residual.h5");
+  {
+    condense::Component c =
+        condense::read_component(fs::path(NVH_SOURCE_DIR) / "testdata" / "scenes" / "flexible_beam.toml");
+    c.reduction.method = condense::ReductionMethod::kModal;
+    c.reduction.modes = 4;
+    c.reduction.residual_modes = true;
+    c.reduction.residual_modes_given = true;
+    condense::write_superelement(file,
+                                 condense::condense_component(c, condense::EigenBackend::kSpectra, quiet()),
+                                 make_provenance("test", 0, nullptr, {}));
+  }
+  const SuperelementFile se = read_superelement(file);
+  ASSERT_GT(se.static_correction, 0);
+  EXPECT_EQ(se.size(), 4 + se.static_correction);
+  auto scene = [](const std::string& modes) {
+    return "[scene]\nname = \"free-beam\"\n[[body]]\nname = \"ground\"\ntype = \"ground\"\n"
+           "[[body]]\nname = \"beam\"\ntype = \"flexible\"\nsuperelement = \"advise_beam_residual.h5\"\n" +
+           modes + "[clock]\nend_time = 0.01\n[output]\nsample_rate_hz = 2000\n";
+  };
+  const Scene truncated = parse_scene(scene("modes = 4\n"), "truncated.toml", file.parent_path());
+  ASSERT_EQ(truncated.warnings.size(), 1u);
+  EXPECT_NE(truncated.warnings[0].find("truncated.toml:"), std::string::npos) << truncated.warnings[0];
+  EXPECT_NE(truncated.warnings[0].find("'beam' uses 4 of the " + std::to_string(se.size())),
+            std::string::npos)
+      << truncated.warnings[0];
+  const Advice a = advice_of(scene("modes = 4\n"), {}, file.parent_path());
+  EXPECT_TRUE(any_contains(a.warnings, "static-correction"));
+  ASSERT_EQ(a.flexible.size(), 1u);
+  EXPECT_EQ(a.flexible[0].modes_needed, se.size());
+  const Scene whole = parse_scene(scene(""), "whole.toml", file.parent_path());
+  EXPECT_TRUE(whole.warnings.empty());
+  std::printf("measured: %d static-correction vectors in %d coordinates; the warning: %s\n",
+              se.static_correction, se.size(), truncated.warnings[0].c_str());
+}
+
 TEST(Advise, ClampedBeamFirstModeIsEulerBernoulli) {
   const fs::path beam = condensed_beam();
   std::string text =
