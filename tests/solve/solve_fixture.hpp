@@ -10,6 +10,7 @@
 #include <sstream>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "common/error.hpp"
 #include "common/hdf5.hpp"
@@ -62,6 +63,12 @@ inline Eigen::VectorXd signal(const std::filesystem::path& file, const std::stri
   const h5::File f = h5::File::open_read(file);
   if (c < 0) return f.root().read_vector(path);
   return f.root().read_matrix(path).col(c);
+}
+
+/// signal() as a std::vector (for loops over samples).
+inline std::vector<double> column(const std::filesystem::path& file, const std::string& path, int c = -1) {
+  const Eigen::VectorXd v = signal(file, path, c);
+  return std::vector<double>(v.data(), v.data() + v.size());
 }
 
 /// The message of the error that parsing a bad scene throws (the scene's file name: bad.toml), or "no error".

@@ -687,6 +687,33 @@ TEST(ElementJacobians, PistonLinerFromFilmToContact) {
   }
 }
 
+/// The piston-liner element's markers (tests below): the piston at eccentricity e (+-0.01) in a bore moving
+/// at random, tilted up to 0.02 rad about the pin axis, sliding at 1.5 m/s; then each surface marker k >= 2
+/// at its initial grid point (about j's axis for k < first_skirt, the liner's; about i's from there, the
+/// skirt's) displaced radially by up to 0.05 m and moving at random relative to that marker.
+Point piston_with_surface_markers(std::mt19937& rng, const std::vector<MarkerMotion>& initial,
+                                  std::size_t first_skirt, double e) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  Point p = two_random(rng);
+  const MarkerMotion& j = p.markers[1];
+  MarkerMotion& i = p.markers[0];
+  i.axes = Eigen::AngleAxisd(0.02 * u(rng), -j.axes.col(1)).toRotationMatrix() * j.axes;
+  i.position = j.position + (e + 0.01 * u(rng)) * j.axes.col(0) + 0.02 * u(rng) * j.axes.col(2);
+  i.velocity = j.velocity + j.angular_velocity.cross(i.position - j.position) + 1.5 * j.axes.col(2) +
+               0.2 * u(rng) * j.axes.col(0);
+  for (std::size_t k = 2; k < initial.size(); ++k) {
+    const MarkerMotion o = k < first_skirt ? p.markers[1] : p.markers[0];
+    MarkerMotion m = random_motion(rng);
+    const Vec3 local = initial[k].position;
+    const Vec3 radial = Vec3(local.x(), local.y(), 0).normalized();
+    m.position = o.position + o.axes * (local + 0.05 * u(rng) * radial);
+    m.velocity =
+        o.velocity + o.angular_velocity.cross(m.position - o.position) + 0.3 * u(rng) * (o.axes * radial);
+    p.markers.push_back(m);
+  }
+  return p;
+}
+
 // The elasto-hydrodynamic liner (piston-liner with `liner` markers, docs/bearing.md section 17): a grid of 3
 // axial levels x 6 angles on the bore (R 1 m) around the piston's position, each marker displaced radially by
 // up to 0.05 m (a tenth of the clearance) and moving at random; j moving at random as well (the markers'
@@ -695,7 +722,6 @@ TEST(ElementJacobians, PistonLinerFromFilmToContact) {
 // right.
 TEST(ElementJacobians, PistonLinerOnDeformableLinerMarkers) {
   std::mt19937 rng(17);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
   const double levels[] = {-0.12, -0.02, 0.09}, pi = std::numbers::pi;
   std::vector<MarkerMotion> initial(2);  // i, j at the origin with identity axes; the ring around j's z axis
   std::vector<std::string> bodies = {"piston", "block"};
@@ -715,22 +741,7 @@ TEST(ElementJacobians, PistonLinerOnDeformableLinerMarkers) {
     const auto element = builtin_elements().find("force", "piston-liner")->make(c);
     ASSERT_EQ(element->marker_count(), 20);
     for (const double e : {0.1, 0.45}) {
-      Point p = two_random(rng);
-      const MarkerMotion& j = p.markers[1];
-      MarkerMotion& i = p.markers[0];
-      i.axes = Eigen::AngleAxisd(0.02 * u(rng), -j.axes.col(1)).toRotationMatrix() * j.axes;
-      i.position = j.position + (e + 0.01 * u(rng)) * j.axes.col(0) + 0.02 * u(rng) * j.axes.col(2);
-      i.velocity = j.velocity + j.angular_velocity.cross(i.position - j.position) + 1.5 * j.axes.col(2) +
-                   0.2 * u(rng) * j.axes.col(0);
-      for (std::size_t k = 2; k < initial.size(); ++k) {
-        MarkerMotion m = random_motion(rng);
-        const Vec3 local = initial[k].position;
-        const Vec3 radial = Vec3(local.x(), local.y(), 0).normalized();
-        m.position = j.position + j.axes * (local + 0.05 * u(rng) * radial);
-        m.velocity =
-            j.velocity + j.angular_velocity.cross(m.position - j.position) + 0.3 * u(rng) * (j.axes * radial);
-        p.markers.push_back(m);
-      }
+      const Point p = piston_with_surface_markers(rng, initial, initial.size(), e);
       expect_matches(*element, p, "piston-liner on liner markers, " + cav + ", e = " + std::to_string(e));
     }
   }
@@ -742,7 +753,6 @@ TEST(ElementJacobians, PistonLinerOnDeformableLinerMarkers) {
 // the chain rule to i's columns and the force transfer to the skirt markers and back to i are right.
 TEST(ElementJacobians, PistonLinerOnDeformableSkirtMarkers) {
   std::mt19937 rng(23);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
   const double pi = std::numbers::pi;
   for (const bool with_liner : {false, true}) {
     std::vector<MarkerMotion> initial(2);  // i, j at the origin with identity axes
@@ -757,7 +767,7 @@ TEST(ElementJacobians, PistonLinerOnDeformableSkirtMarkers) {
         }
     };
     if (with_liner) ring({-0.12, -0.02, 0.09}, 0.3, "block");
-    const int first_skirt = static_cast<int>(initial.size());
+    const std::size_t first_skirt = initial.size();
     ring({-0.04, 0.0, 0.05}, 0.1, "piston");
     std::string skirt = "skirt = [";
     for (int k = 0; k < 18; ++k) skirt += (k ? ", \"piston.s" : "\"piston.s") + std::to_string(k) + "\"";
@@ -768,23 +778,7 @@ TEST(ElementJacobians, PistonLinerOnDeformableSkirtMarkers) {
     const auto element = builtin_elements().find("force", "piston-liner")->make(c);
     ASSERT_EQ(element->marker_count(), static_cast<int>(initial.size()));
     for (const double e : {0.1, 0.4}) {
-      Point p = two_random(rng);
-      const MarkerMotion& j = p.markers[1];
-      MarkerMotion& i = p.markers[0];
-      i.axes = Eigen::AngleAxisd(0.02 * u(rng), -j.axes.col(1)).toRotationMatrix() * j.axes;
-      i.position = j.position + (e + 0.01 * u(rng)) * j.axes.col(0) + 0.02 * u(rng) * j.axes.col(2);
-      i.velocity = j.velocity + j.angular_velocity.cross(i.position - j.position) + 1.5 * j.axes.col(2) +
-                   0.2 * u(rng) * j.axes.col(0);
-      for (std::size_t k = 2; k < initial.size(); ++k) {
-        const MarkerMotion& o = k < std::size_t(first_skirt) ? p.markers[1] : p.markers[0];
-        MarkerMotion m = random_motion(rng);
-        const Vec3 local = initial[k].position;
-        const Vec3 radial = Vec3(local.x(), local.y(), 0).normalized();
-        m.position = o.position + o.axes * (local + 0.05 * u(rng) * radial);
-        m.velocity =
-            o.velocity + o.angular_velocity.cross(m.position - o.position) + 0.3 * u(rng) * (o.axes * radial);
-        p.markers.push_back(m);
-      }
+      const Point p = piston_with_surface_markers(rng, initial, first_skirt, e);
       expect_matches(*element, p,
                      std::string("piston-liner on skirt markers") + (with_liner ? " and liner markers" : "") +
                          ", e = " + std::to_string(e));

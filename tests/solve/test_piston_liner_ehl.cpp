@@ -24,10 +24,13 @@
 #include <Eigen/Geometry>
 
 #include "common/input.hpp"
+#include "piston_liner_fixture.hpp"
 #include "solve/element_registry.hpp"
 
 namespace nvh::solve {
 namespace {
+
+using namespace piston_liner_testing;
 
 constexpr double kPi = std::numbers::pi;
 
@@ -55,40 +58,6 @@ Built build(const std::string& keys, const std::vector<Vec3>& ring = {}) {
   return b;
 }
 
-/// Axial levels z (m, in j's frame) x angles around (from x_j towards w = x_j x z_j = -y_j) at radius r.
-std::vector<Vec3> ring_grid(double r, const std::vector<double>& levels, int angles) {
-  std::vector<Vec3> out;
-  for (int b = 0; b < angles; ++b) {
-    const double th = -kPi + 2 * kPi * (b + 0.5) / angles;
-    for (double z : levels) out.emplace_back(r * std::cos(th), -r * std::sin(th), z);
-  }
-  return out;
-}
-
-std::vector<double> linspace(double a, double b, int n) {
-  std::vector<double> v(n);
-  for (int k = 0; k < n; ++k) v[k] = a + (b - a) * k / (n - 1);
-  return v;
-}
-
-struct Evaluated {
-  std::vector<Wrench> w;
-  std::vector<double> channels;
-  ElementEnergy energy;
-};
-
-Evaluated evaluate(const ForceElement& e, const std::vector<MarkerMotion>& markers) {
-  Evaluated out;
-  out.w.resize(markers.size());
-  const ElementInput in{0.0, 0.0, markers, {}, {}};
-  ElementOutput o{out.w, {}};
-  e.evaluate(in, o);
-  out.channels.resize(e.channels().size());
-  e.channel_values(in, out.channels);
-  out.energy = e.energy(in);
-  return out;
-}
-
 /// The liner's markers moving with j (rigid), at `ring` in j's frame.
 void attach(std::vector<MarkerMotion>& markers, const std::vector<Vec3>& ring) {
   const MarkerMotion j = markers[1];
@@ -107,27 +76,6 @@ std::pair<Vec3, Vec3> resultant(const Evaluated& r, const std::vector<MarkerMoti
   for (std::size_t k = from; k < to; ++k)
     f += r.w[k].force, t += r.w[k].torque + m[k].position.cross(r.w[k].force);
   return {f, t};
-}
-
-const std::string kKeys =
-    "bore_radius = 0.043\nradial_clearance = 30e-6\nskirt_length = 0.04\nskirt_top = 0.012\nviscosity = "
-    "0.007\n"
-    "barrel = [[-0.028, 12e-6], [-0.006, 0.0], [0.012, 8e-6]]\ncells_axial = 16\ncells_around = 12\n"
-    "sigma = 1e-6\nK = 2.4e-4\nmodulus = 1.1e11\nmu_asperity = 0.1\nfilm_tolerance = 1e-12\n";
-
-// The piston tilted, off centre, sliding and swinging; j turned and moving.
-std::vector<MarkerMotion> piston_and_bore(double e, double axial) {
-  MarkerMotion i, j;
-  j.axes = Eigen::AngleAxisd(0.3, Vec3(1, 2, 3).normalized()).toRotationMatrix();
-  j.position = Vec3(0.1, -0.2, 0.3);
-  j.velocity = Vec3(0.3, -0.1, 0.2);
-  j.angular_velocity = Vec3(0.5, -1.0, 2.0);
-  i.axes = Eigen::AngleAxisd(2e-4, -j.axes.col(1)).toRotationMatrix() * j.axes;
-  i.position = j.position + e * j.axes.col(0) + axial * j.axes.col(2);
-  i.velocity = j.velocity + j.angular_velocity.cross(i.position - j.position) + 8.0 * j.axes.col(2) +
-               0.02 * j.axes.col(0);
-  i.angular_velocity = j.angular_velocity + 0.5 * j.axes.col(1);
-  return {i, j};
 }
 
 TEST(PistonLinerEhl, RigidLinerGivenAsMarkersReproducesTheRigidLiner) {

@@ -30,16 +30,12 @@
 namespace nvh::solve {
 namespace {
 
+using testing::column;
 using testing::run_text;
 using testing::shipped_scene;
 using testing::signal;
 
 constexpr double kPi = std::numbers::pi;
-
-std::vector<double> column(const std::filesystem::path& h5, const std::string& name, int c = -1) {
-  const Eigen::VectorXd v = signal(h5, name, c);
-  return std::vector<double>(v.data(), v.data() + v.size());
-}
 
 /// The ring body "liner": 15 levels (y = 0.065 .. 0.205 m, the skirt's travel) x 12 angles on the bore
 /// (radius 43 mm; theta from the thrust side +x towards w = x cross y = +z), and its bore frame.

@@ -24,16 +24,12 @@
 namespace nvh::solve {
 namespace {
 
+using testing::column;
 using testing::run_text;
 using testing::shipped_scene;
 using testing::signal;
 
 constexpr double kPi = std::numbers::pi;
-
-std::vector<double> column(const std::filesystem::path& h5, const std::string& name, int c = -1) {
-  const Eigen::VectorXd v = signal(h5, name, c);
-  return std::vector<double>(v.data(), v.data() + v.size());
-}
 
 /// The rigid piston's skirt markers (level (b): the piston's centre of mass at the pin, body axes the
 /// scene's): 5 levels along the axis (scene y) x 10 angles from the thrust side +x towards w = +z, on the
