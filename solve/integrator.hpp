@@ -16,28 +16,32 @@ struct IntegratorSettings {
   double rtol = 1e-6;
   double atol = 1e-8;
   double multiplier_atol = 1e-3;  // absolute tolerance of the multipliers (N, N m; index-2 variables)
-  double velocity_atol = 0;      // absolute tolerance of the bodies' velocities (m/s, rad/s); 0: atol
-  double max_step = 0;           // s, 0 = no limit
-  double initial_step = 0;       // s, 0 = automatic
-  int max_order = 5;             // IDA
-  // IDA: a new Jacobian (and factorization) when cj = alpha/h has changed by more than this fraction since the
-  // last one (IDASetDeltaCjLSetup; 0.25 is SUNDIALS' default). Between updates IDA scales the Newton
+  double velocity_atol = 0;       // absolute tolerance of the bodies' velocities (m/s, rad/s); 0: atol
+  double max_step = 0;            // s, 0 = no limit
+  double initial_step = 0;        // s, 0 = automatic
+  int max_order = 5;              // IDA
+  // IDA: a new Jacobian (and factorization) when cj = alpha/h has changed by more than this fraction since
+  // the last one (IDASetDeltaCjLSetup; 0.25 is SUNDIALS' default). Between updates IDA scales the Newton
   // correction by 2/(1 + cj/cj_old); a larger value trades Jacobians for Newton iterations.
   double jacobian_cj_change = 0.25;
-  double rho_inf = 0.8;          // generalized-alpha spectral radius at infinity
-  double step = 1e-4;            // generalized-alpha step (s); adapted if `adaptive`
-  bool adaptive = true;          // generalized-alpha: halve the step when Newton fails, grow it back
-  std::string jacobian = "analytic";  // "analytic" (model.hpp), "colored-fd" (sparse differences) or "dense-fd"
+  double rho_inf = 0.8;  // generalized-alpha spectral radius at infinity
+  double step = 1e-4;    // generalized-alpha step (s); adapted if `adaptive`
+  bool adaptive = true;  // generalized-alpha: halve the step when Newton fails, grow it back
+  std::string jacobian =
+      "analytic";  // "analytic" (model.hpp), "colored-fd" (sparse differences) or "dense-fd"
   // IDA's Newton matrix: "auto" (dense LU where the matrix is dense enough, else KLU), "klu" or "dense"
   // (newton_matrix_solver.hpp)
   std::string linear_solver = "auto";
-  bool events = true;            // locate the sign changes of the contact gaps (Model::gaps) as step boundaries
+  bool events = true;  // locate the sign changes of the contact gaps (Model::gaps) as step boundaries
   // method = "split" (split_integrator.hpp, docs/theory/split-integrator.md)
   double macro_step = 0;            // s: H, the exchange interval between the groups
   std::string exchange = "jacobi";  // "jacobi" or "gauss-seidel"
   int extrapolation = 1;            // degree (0, 1, 2) of the other groups' extrapolated motion
   bool coupling_correction = true;  // linearized partner response (the interface Jacobian)
   int iterations = 0;               // corrector passes of each macro step (waveform relaxation)
+  // > 0: the macro step is chosen by the exchange's error estimate (S7), at most macro_step; the largest
+  // exchange error allowed, in units of the inner error weights rtol |y| + atol. 0: H = macro_step fixed.
+  double macro_tolerance = 0;
   std::vector<std::vector<std::string>> split_groups;  // body names to integrate in one group
 };
 

@@ -470,8 +470,8 @@ void SceneReader::read_integrator(const Table& root) {
 void SceneReader::read_split(const Table& t) {
   auto& s = s_.integrator;
   const bool split = s.method == "split";
-  for (const char* key :
-       {"macro_step", "exchange", "extrapolation", "coupling_correction", "iterations", "groups"})
+  for (const char* key : {"macro_step", "macro_tolerance", "exchange", "extrapolation", "coupling_correction",
+                          "iterations", "groups"})
     if (!split && t.has(key))
       t.fail(key, "applies to method = \"split\" only (method is \"" + s.method + "\")");
   if (!split) return;
@@ -484,6 +484,7 @@ void SceneReader::read_split(const Table& t) {
     t.fail("macro_step", "expected a macro_step >= " + format_number(span / bounds::kMaxSteps) +
                              " s: the run would take " + format_number(span / s.macro_step) +
                              " macro steps, more than the limit of " + format_number(bounds::kMaxSteps));
+  s.macro_tolerance = t.optional_number("macro_tolerance", Range::positive()).value_or(s.macro_tolerance);
   s.exchange = t.optional_choice("exchange", {"jacobi", "gauss-seidel"}).value_or(s.exchange);
   s.extrapolation =
       static_cast<int>(t.optional_integer("extrapolation", Range::closed(0, 2)).value_or(s.extrapolation));

@@ -16,7 +16,9 @@
 //   R_o(s) = F_o(T) + s dF_o/dt along yhat (the predictor pass; 0 in corrector passes),
 // yhat the linear extrapolation (predictor) or the previous pass (corrector): the partners respond, linearly,
 // to g's motion - the interface Jacobian that keeps stiff couplings stable. Each group is its own SUNDIALS
-// IDA instance, restarted (IDAReInit) at each macro step and pass from a consistent state (S6).
+// IDA instance, restarted (IDAReInit) at each macro step and pass from a consistent state (S6). With
+// macro_tolerance the macro step is chosen by the exchange's error estimate (S7): the other groups' end
+// states as each group saw them (extrapolated, linearized) against the states they reached.
 #include "solve/split_integrator.hpp"
 
 #include <ida/ida.h>
@@ -186,6 +188,7 @@ struct Group {
   double next_step = 0;  // the step IDA would have taken next at the last macro step's end
   Record record;         // this pass's steps (after the step: the last pass's, the dense output)
   Record previous;       // the previous pass's (corrector passes)
+  Eigen::VectorXd seen;  // the whole state as this group saw it at the macro step's end (S7)
   std::exception_ptr pending;
   std::string message, non_finite;
   ~Group() {
@@ -245,16 +248,29 @@ class SplitIntegrator final : public Integrator {
   }
 
   // The macro step: s_.macro_step, cut by 4 when a group's IDA fails or stalls in it (the step is redone
-  // from its start), grown back by 2 after each success. The state at the start is untouched until a macro
-  // step completes (macro_step() writes y_, yp_, t_ last), so a retry needs no restore.
+  // from its start), grown back by 2 after each success. With macro_tolerance (S7) it follows the exchange's
+  // error estimate instead: a step whose estimate exceeds the tolerance is redone shorter, and the next one
+  // is scaled by 0.8 (tolerance / estimate)^(1/2), within a quarter and twice the last, at most macro_step,
+  // at least macro_step / kMaxMacroStepCut (where the estimate no longer shrinks with H - at an impact - the
+  // step at that floor is taken as it is). The state at the start is untouched until a macro step completes
+  // (macro_step() writes y_, yp_, t_ last), so a retry needs no restore.
   double advance(double t_target, double t_stop) override {
     const auto start = Clock::now();
+    const double h_min = s_.macro_step / kMaxMacroStepCut * 1.0001;
     while (t_ < t_target && t_ < t_stop) {
       double h = std::min(h_next_, s_.macro_step);
       if (t_ + 1.001 * h >= t_stop) h = t_stop - t_;  // land on t_stop, no sliver step
       try {
-        macro_step(h);
-        h_next_ = std::min(2 * h_next_, s_.macro_step);
+        const bool accept_any = h <= h_min;
+        const bool accepted = macro_step(h, accept_any);
+        if (s_.macro_tolerance > 0) {
+          const double ratio = exchange_error_ / s_.macro_tolerance;
+          const double factor = ratio > 0 ? 0.8 / std::sqrt(ratio) : 2.0;
+          h_next_ = std::clamp(h * std::clamp(factor, 0.25, accepted ? 2.0 : 0.8), h_min, s_.macro_step);
+          if (!accepted) ++stats_.rejected_steps;
+        } else {
+          h_next_ = std::min(2 * h_next_, s_.macro_step);
+        }
       } catch (const Interrupted&) {
         break;  // the macro step abandoned: the state stays at its start, which run.cpp checkpoints
       } catch (const MacroStepFailure& e) {
@@ -530,10 +546,28 @@ class SplitIntegrator final : public Integrator {
     IDAGetLastOrder(g.mem, &order);
     stats_.last_order = std::max(stats_.last_order, order);
     for (int i = 0; i < no; ++i) y_end_[g.own[i]] = view(g.u)[i], yp_end_[g.own[i]] = view(g.up)[i];
+    if (s_.macro_tolerance > 0) {  // (S7): the others' states as g saw them at the end
+      full_state(g, tret, N_VGetArrayPointer(g.u), N_VGetArrayPointer(g.up));
+      g.seen = yf_;
+    }
   }
 
-  /// One macro step [t_, t_ + h]: a predictor pass and up to `iterations` corrector passes.
-  void macro_step(double h) {
+  /// (S7): the largest difference between another group's end state as a group saw it (extrapolated (S2),
+  /// with its linearized response (S5), or its previous pass (S3)) and the state it reached, over the
+  /// differential unknowns, in units of the error weights rtol |y| + atol. A group's own states and those of
+  /// groups it saw by their steps (Gauss-Seidel) contribute nothing.
+  double exchange_error() const {
+    const Eigen::VectorXd w = (s_.rtol * y_end_.cwiseAbs() + atol_).cwiseInverse().cwiseProduct(mask_);
+    double e = 0;
+    for (const auto& gp : groups_)
+      e = std::max(e, ((gp->seen - y_end_).cwiseProduct(w)).cwiseAbs().maxCoeff());
+    return e;
+  }
+
+  /// One macro step [t_, t_ + h]: a predictor pass and up to `iterations` corrector passes. With
+  /// macro_tolerance, false (and nothing changed) when the exchange's error estimate (S7) exceeds it, unless
+  /// `accept_any`.
+  bool macro_step(double h, bool accept_any) {
     {  // A = dF/dy, B = dF/dy' at the start: (S5) and the consistent derivatives (S6)
       const auto start = Clock::now();
       model_.jacobian(t_, y_.data(), yp_.data(), 0.0, a_);
@@ -574,6 +608,7 @@ class SplitIntegrator final : public Integrator {
         throw Error(where(partition_.group_of_state[k], h, pass) + ": the state " + model_.describe_state(k) +
                     " is not finite: the exchange diverged");
       }
+      if (s_.macro_tolerance > 0) exchange_error_ = exchange_error();
       if (have_previous) {  // converged: the change of the end state within the tolerances
         const Eigen::VectorXd w = (s_.rtol * y_end_.cwiseAbs() + atol_).cwiseInverse().cwiseProduct(mask_);
         if (((y_end_ - y_pass_).cwiseProduct(w)).cwiseAbs().maxCoeff() <= 1) break;
@@ -581,12 +616,14 @@ class SplitIntegrator final : public Integrator {
       y_pass_ = y_end_, yp_pass_ = yp_end_;
       have_previous = true;
     }
+    if (s_.macro_tolerance > 0 && exchange_error_ > s_.macro_tolerance && !accept_any) return false;
     yp_before_ = yp_;
     h_before_ = h;
     t_ += h;
     y_ = y_end_, yp_ = yp_end_;
     last_macro_step_ = h;
     stepped_ = true;
+    return true;
   }
 
   /// (S6): at an exchange the groups' ends were computed against the others' assumed motion, so their
@@ -738,8 +775,9 @@ class SplitIntegrator final : public Integrator {
   Eigen::VectorXd yp_before_;  // y' at t_ - h_before_ (quadratic extrapolation)
   double h_before_ = 0;
   double h_next_ = std::numeric_limits<double>::infinity();  // the next macro step (advance)
-  Eigen::VectorXd y_end_, yp_end_;    // this pass's end
-  Eigen::VectorXd y_pass_, yp_pass_;  // the previous pass's end
+  double exchange_error_ = 0;                                // (S7) of the last pass
+  Eigen::VectorXd y_end_, yp_end_;                           // this pass's end
+  Eigen::VectorXd y_pass_, yp_pass_;                         // the previous pass's end
   Eigen::VectorXd mask_, atol_;
   Motion motion_;
   std::vector<Source> source_;          // per group, in the current group's pass
