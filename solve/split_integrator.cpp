@@ -188,7 +188,8 @@ struct Group {
   double next_step = 0;  // the step IDA would have taken next at the last macro step's end
   Record record;         // this pass's steps (after the step: the last pass's, the dense output)
   Record previous;       // the previous pass's (corrector passes)
-  Eigen::VectorXd seen;  // the whole state as this group saw it at the macro step's end (S7)
+  Eigen::VectorXd seen;   // the whole state as this group saw it at the macro step's end (S7)
+  Eigen::VectorXd reads;  // 1 for the other groups' differential unknowns its own equations read (S7)
   std::exception_ptr pending;
   std::string message, non_finite;
   ~Group() {
@@ -417,6 +418,11 @@ class SplitIntegrator final : public Integrator {
         if (o != id && (!gauss_seidel_ || o > id)) g.partners.push_back(k);
       }
     g.m = static_cast<int>(g.own.size() + g.partners.size());
+    g.reads = Eigen::VectorXd::Zero(model_.size());  // (S7): the others' unknowns g's own equations read
+    for (int c = 0; c < pattern_.n; ++c)
+      if (partition_.group_of_state[c] != id)
+        for (int e = pattern_.column_start[c]; e < pattern_.column_start[c + 1]; ++e)
+          if (partition_.group_of_state[pattern_.rows[e]] == id) g.reads[c] = mask_[c];
     g.local_row_of.assign(model_.size(), -1);
     std::vector<int> sub(g.own);
     sub.insert(sub.end(), g.partners.begin(), g.partners.end());
@@ -554,13 +560,14 @@ class SplitIntegrator final : public Integrator {
 
   /// (S7): the largest difference between another group's end state as a group saw it (extrapolated (S2),
   /// with its linearized response (S5), or its previous pass (S3)) and the state it reached, over the
-  /// differential unknowns, in units of the error weights rtol |y| + atol. A group's own states and those of
-  /// groups it saw by their steps (Gauss-Seidel) contribute nothing.
+  /// differential unknowns the group's own equations read (Group::reads), in units of the error weights
+  /// rtol |y| + atol. A group's own states and those of groups it saw by their steps (Gauss-Seidel) contribute
+  /// nothing.
   double exchange_error() const {
-    const Eigen::VectorXd w = (s_.rtol * y_end_.cwiseAbs() + atol_).cwiseInverse().cwiseProduct(mask_);
+    const Eigen::VectorXd w = (s_.rtol * y_end_.cwiseAbs() + atol_).cwiseInverse();
     double e = 0;
     for (const auto& gp : groups_)
-      e = std::max(e, ((gp->seen - y_end_).cwiseProduct(w)).cwiseAbs().maxCoeff());
+      e = std::max(e, ((gp->seen - y_end_).cwiseProduct(w).cwiseProduct(gp->reads)).cwiseAbs().maxCoeff());
     return e;
   }
 
