@@ -3,11 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
+#include <map>
 #include <numbers>
 #include <sstream>
 
 #include "common/error.hpp"
 #include "solve/flexible_body.hpp"
+#include "solve/split_integrator.hpp"
 #include "solve/stability.hpp"
 
 namespace nvh::solve {
@@ -54,6 +56,59 @@ std::string mode_name(const LinearMode& m) {
          (m.elastic.empty() ? (m.kinetic.empty() ? std::string("?") : m.kinetic[0].first)
                             : m.elastic[0].first) +
          ")";
+}
+
+/// The split (docs/theory/split-integrator.md): the stiffest mode of the linearised start whose kinetic
+/// energy two groups share (at least 1 % each) is the coupling the exchange carries. Without the coupling
+/// correction the exchange is stable for omega_c H below about 1 (verification.md, the split's stability
+/// map); with it, tested to omega_c H = 14. A fixed H can crawl where contacts close inside a macro step
+/// (S7).
+void advise_split(const Model& model, const IntegratorSettings& s, Advice& a) {
+  const SplitPartition p = partition_model(model, s.split_groups);
+  if (p.groups < 2) {
+    a.notes.push_back(
+        "split: the scene is one group (its bodies joined by joints): the split is IDA restarted at "
+        "every macro step, at more cost (verification.md); method = \"ida\"");
+    return;
+  }
+  std::map<std::string, int> group_of_body;
+  for (int g = 0; g < p.groups; ++g)
+    for (const std::string& body : p.bodies[g]) group_of_body[body] = g;
+  const LinearMode* coupling = nullptr;
+  for (const LinearMode& m : a.linear.modes) {  // ascending: the last one found is the stiffest
+    std::vector<double> share(p.groups, 0.0);
+    for (const auto& [body, e] : m.kinetic)
+      if (const auto it = group_of_body.find(body); it != group_of_body.end()) share[it->second] += e;
+    if (std::count_if(share.begin(), share.end(), [](double x) { return x >= 0.01; }) >= 2) coupling = &m;
+  }
+  if (!coupling) {
+    a.notes.push_back("split: " + std::to_string(p.groups) +
+                      " groups; no mode of the linearised start moves two of them");
+  } else {
+    const double wh = coupling->omega * s.macro_step;
+    const std::string what = "the stiffest mode between the " + std::to_string(p.groups) + " groups, " +
+                             mode_name(*coupling) + ", at macro_step " + num(s.macro_step) +
+                             " s: omega_c H = " + num(wh);
+    if (!s.coupling_correction && wh > 1)
+      a.warnings.push_back("split without the coupling correction: " + what +
+                           " > 1, where the exchange diverges (the split's stability map, verification.md); "
+                           "coupling_correction = true, or macro_step <= " +
+                           num(1 / coupling->omega) + " s");
+    else
+      a.notes.push_back(
+          "split: " + what +
+          (s.coupling_correction
+               ? (wh > 14 ? " (the coupling correction: stable where tested, to omega_c H = 14; "
+                            "this is beyond)"
+                          : " (the coupling correction: stable, tested to omega_c H = 14)")
+               : " (< 1 without the correction: stable)"));
+  }
+  if (model.gap_count() > 0 && s.macro_tolerance <= 0)
+    a.notes.push_back(
+        "split with a fixed macro step and " + std::to_string(model.gap_count()) +
+        " contact gap(s): where a contact between groups closes inside a macro step the "
+        "exchange's linearisation misses it, and the groups can crawl (the slap on the flexible "
+        "block at H = 0.2 ms); macro_tolerance = 1e4 shortens H there only (scene-format.md 7.1)");
 }
 
 }  // namespace
@@ -116,8 +171,10 @@ Advice advise(Scene& scene, const AdviceOptions& options, const Logger& log) {
   if (a.max_order < 5 && a.method == "ida")
     a.method_reason += "; max_order lowered so that no mode lies in an unstable BDF band at that step";
 
-  // The scene's own choice against the measured stable region.
-  const bool ida = s.method == "ida";
+  // The scene's own choice against the measured stable region. The split's groups each run IDA with the
+  // scene's max_step and max_order.
+  const bool ida = s.method == "ida" || s.method == "split";
+  if (s.method == "split") advise_split(model, s, a);
   const double scene_step = ida ? s.max_step : s.step;
   if (scene_step > a.step)
     a.warnings.push_back(
@@ -228,7 +285,13 @@ std::string format_advice(const Advice& a, const Scene& scene) {
   out << "advice for scene \"" << scene.name << "\"\n";
   out << "band: 0 .. " << num(a.band_hz, 6) << " Hz (from " << a.band_source << ")\n";
   out << "scene's integrator: method " << s.method;
-  if (s.method == "ida")
+  if (s.method == "split")
+    out << ", macro_step " << num(s.macro_step) << " s"
+        << (s.macro_tolerance > 0 ? " (the largest; macro_tolerance " + num(s.macro_tolerance) + ")"
+                                  : std::string(" (fixed)"))
+        << ", exchange " << s.exchange << ", coupling_correction "
+        << (s.coupling_correction ? "true" : "false") << "; each group's IDA";
+  if (s.method == "ida" || s.method == "split")
     out << ", rtol " << num(s.rtol) << ", atol " << num(s.atol) << ", max_step "
         << (s.max_step > 0 ? num(s.max_step) + " s" : std::string("none")) << ", max_order " << s.max_order;
   else

@@ -11,7 +11,9 @@
 //   5. a flexible body: the reported modes are the superelement's stored ones (read by common's reader), a
 //   free
 //      floating body's linearised frequencies equal them, and a clamped beam's first frequency is the
-//      Euler-Bernoulli cantilever's (1.8751^2 / (2 pi L^2)) sqrt(E I / (rho A)).
+//      Euler-Bernoulli cantilever's (1.8751^2 / (2 pi L^2)) sqrt(E I / (rho A));
+//   6. the split: its coupling mode's omega_c = sqrt(k (m1 + m2) / (m1 m2)) times macro_step against the
+//      stability map's limit of 1 without the coupling correction.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -149,6 +151,33 @@ TEST(Advise, BdfBandWarningForTheScenesMaxStep) {
   const Advice a3 = advice_of(two_masses(
       m1, m2, k, d, "[integrator]\nmax_order = 3\nmax_step = " + testing::num(1.0 / omega) + "\n", 1e6));
   EXPECT_FALSE(any_contains(a3.warnings, "unstable band"));
+}
+
+// The split (method = "split"): the two free masses are two groups (no joint between them), and their one
+// mode, omega = sqrt(k (m1 + m2) / (m1 m2)), moves both. Without the coupling correction the exchange
+// diverges above omega_c H of about 1 (the split's stability map, verification.md): a warning there, none
+// below it, none with the correction; and no generalized-alpha step warnings for a split scene (its groups
+// run IDA).
+TEST(Advise, SplitWarnsOfAnUncorrectedCouplingAboveOmegaH1) {
+  const double m1 = 1.0, m2 = 1.0, k = 1e6, omega = std::sqrt(k * (m1 + m2) / (m1 * m2));
+  const auto advice = [&](double omega_h, bool correction) {
+    const std::string integrator =
+        "[integrator]\nmethod = \"split\"\nmacro_step = " + testing::num(omega_h / omega) +
+        "\ncoupling_correction = " + (correction ? "true" : "false") + "\n";
+    return advice_of(two_masses(m1, m2, k, 0.0, integrator, 1e3));
+  };
+  const Advice above = advice(2.0, false);
+  EXPECT_TRUE(any_contains(above.warnings, "split without the coupling correction"));
+  EXPECT_TRUE(any_contains(above.warnings, "omega_c H = 2"));
+  EXPECT_TRUE(any_contains(above.warnings, "macro_step <= 0.0007071 s"));  // 1 / omega, 4 digits
+  EXPECT_FALSE(any_contains(above.warnings, "generalized-alpha"));
+  EXPECT_FALSE(any_contains(above.notes, "generalized-alpha"));
+  const Advice below = advice(0.5, false);
+  EXPECT_FALSE(any_contains(below.warnings, "coupling correction"));
+  EXPECT_TRUE(any_contains(below.notes, "omega_c H = 0.5"));
+  const Advice corrected = advice(2.0, true);
+  EXPECT_FALSE(any_contains(corrected.warnings, "coupling correction"));
+  EXPECT_TRUE(any_contains(corrected.notes, "tested to omega_c H = 14"));
 }
 
 TEST(Advise, StepResolvesTheBand) {
