@@ -27,8 +27,8 @@ struct IntegratorSettings {
   double rho_inf = 0.8;  // generalized-alpha spectral radius at infinity
   double step = 1e-4;    // generalized-alpha step (s); adapted if `adaptive`
   bool adaptive = true;  // generalized-alpha: halve the step when Newton fails, grow it back
-  std::string jacobian =
-      "analytic";  // "analytic" (model.hpp), "colored-fd" (sparse differences) or "dense-fd"
+  // "analytic" (model.hpp), "colored-fd" (sparse differences) or "dense-fd"
+  std::string jacobian = "analytic";
   // IDA's Newton matrix: "auto" (dense LU where the matrix is dense enough, else KLU), "klu" or "dense"
   // (newton_matrix_solver.hpp)
   std::string linear_solver = "auto";

@@ -185,9 +185,9 @@ struct Group {
   N_Vector u = nullptr, up = nullptr, work = nullptr, work2 = nullptr;
   SUNMatrix matrix = nullptr;
   SUNLinearSolver solver = nullptr;
-  double next_step = 0;  // the step IDA would have taken next at the last macro step's end
-  Record record;         // this pass's steps (after the step: the last pass's, the dense output)
-  Record previous;       // the previous pass's (corrector passes)
+  double next_step = 0;   // the step IDA would have taken next at the last macro step's end
+  Record record;          // this pass's steps (after the step: the last pass's, the dense output)
+  Record previous;        // the previous pass's (corrector passes)
   Eigen::VectorXd seen;   // the whole state as this group saw it at the macro step's end (S7)
   Eigen::VectorXd reads;  // 1 for the other groups' differential unknowns its own equations read (S7)
   std::exception_ptr pending;
@@ -558,13 +558,16 @@ class SplitIntegrator final : public Integrator {
     }
   }
 
+  /// The inner error test's weights 1 / (rtol |y| + atol) at this pass's end state.
+  Eigen::VectorXd end_weights() const { return (s_.rtol * y_end_.cwiseAbs() + atol_).cwiseInverse(); }
+
   /// (S7): the largest difference between another group's end state as a group saw it (extrapolated (S2),
   /// with its linearized response (S5), or its previous pass (S3)) and the state it reached, over the
   /// differential unknowns the group's own equations read (Group::reads), in units of the error weights
-  /// rtol |y| + atol. A group's own states and those of groups it saw by their steps (Gauss-Seidel) contribute
-  /// nothing.
+  /// rtol |y| + atol. A group's own states and those of groups it saw by their steps (Gauss-Seidel)
+  /// contribute nothing.
   double exchange_error() const {
-    const Eigen::VectorXd w = (s_.rtol * y_end_.cwiseAbs() + atol_).cwiseInverse();
+    const Eigen::VectorXd w = end_weights();
     double e = 0;
     for (const auto& gp : groups_)
       e = std::max(e, ((gp->seen - y_end_).cwiseProduct(w).cwiseProduct(gp->reads)).cwiseAbs().maxCoeff());
@@ -617,7 +620,7 @@ class SplitIntegrator final : public Integrator {
       }
       if (s_.macro_tolerance > 0) exchange_error_ = exchange_error();
       if (have_previous) {  // converged: the change of the end state within the tolerances
-        const Eigen::VectorXd w = (s_.rtol * y_end_.cwiseAbs() + atol_).cwiseInverse().cwiseProduct(mask_);
+        const Eigen::VectorXd w = end_weights().cwiseProduct(mask_);
         if (((y_end_ - y_pass_).cwiseProduct(w)).cwiseAbs().maxCoeff() <= 1) break;
       }
       y_pass_ = y_end_, yp_pass_ = yp_end_;
