@@ -689,6 +689,7 @@ void require_numeric(const Source& source, const Handle& type, bool integer_only
     fail(source.where, std::string("expected ") + (integer_only ? "integer" : "float64") + " data, found " +
                            describe_type(type.get()));
   }
+  if (const std::string fault = numeric_type_fault(type.get()); !fault.empty()) fail(source.where, fault);
 }
 
 // A corrupted shape can claim more values than the file could hold even compressed (deflate's ratio is at
@@ -728,18 +729,24 @@ std::vector<std::int64_t> read_int64s(const Source& source, hsize_t count) {
 // (found by its "GCOL" signature) is checked the way HDF5 will walk it; and before reading a
 // variable-length dataset or attribute, each of its references (raw bytes, read beside HDF5: a dataset's
 // from its contiguous storage, an attribute's from its owner's object header) is checked against the
-// collection it points into (docs/cli.md, "corrupted input files").
+// collection it points into (docs/cli.md, "corrupted input files"). A collection's fault counts when a
+// string refers into it: HDF5 loads a collection only for a reference, and the four bytes "GCOL" also turn up
+// by chance in compressed raw data (a results file of 5 MB had them), which is no collection at all. Strings
+// whose references cannot be read beside HDF5 (chunked or compact datasets, attributes of headers not walked)
+// are refused if any collection with a sound header (version 1, reserved bytes 0: what chance bytes almost
+// never spell) is faulty, as HDF5 might load that one.
 // The checks assume HDF5's default 8-byte addresses and lengths and no user block; other files are read
 // unchecked.
 
 struct HeapCollection {
   std::uint64_t size = 0;
   std::map<std::uint16_t, std::uint64_t> objects;  // index -> object size
+  std::string fault;                               // what is wrong with it, "" if sound
 };
 
 struct HeapCheck {
-  std::string error;                                    // the first fault found, "" if none
-  std::map<std::uint64_t, HeapCollection> collections;  // by file address
+  std::map<std::uint64_t, HeapCollection> collections;  // by file address (every "GCOL" found)
+  std::string error;  // the first fault of a collection with a sound header, "" if none
 };
 
 std::uint64_t little_endian(const unsigned char* p, int bytes) {
@@ -846,27 +853,35 @@ const HeapCheck& heap_check(const std::string& file_name) {
       file.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
       fault = file ? check_collection(bytes, collection) : "cannot read it";
     }
-    if (!fault.empty() && check.error.empty()) {
+    const bool sound_header = header[4] == 1 && header[5] == 0 && header[6] == 0 && header[7] == 0;
+    if (!fault.empty() && sound_header && check.error.empty()) {
       check.error = "corrupt variable-length string storage (global heap collection at byte " +
                     std::to_string(offset) + ": " + fault + ")";
     }
+    collection.fault = fault;
     check.collections.emplace(offset, std::move(collection));
   }
   return check;
 }
 
 // One stored variable-length string's reference (16 bytes: length (4), collection address (8), object
-// index (4)) checked against the collections of `check`: true if it refers to a stored string of its length,
-// the object H5HG_read will copy into a buffer of that length (plus a terminator).
-bool reference_is_sound(const HeapCheck& check, const unsigned char* reference) {
+// index (4)) checked against the collections of `check`: "" if it refers to a stored string of its length in
+// a sound collection (the object H5HG_read will copy into a buffer of that length, plus a terminator), else
+// what is wrong.
+std::string reference_fault(const HeapCheck& check, const unsigned char* reference) {
   const std::uint64_t length = little_endian(reference, 4);
   const std::uint64_t address = little_endian(reference + 4, 8);
   const std::uint64_t index = little_endian(reference + 12, 4);
-  if (length == 0 && address == 0) return true;  // an empty string: nothing stored
+  if (length == 0 && address == 0) return "";  // an empty string: nothing stored
+  const std::string no_string = "refers to no stored string of its length";
   const auto collection = check.collections.find(address);
-  if (collection == check.collections.end() || index > 0xffff) return false;
+  if (collection == check.collections.end() || index > 0xffff) return no_string;
+  if (!collection->second.fault.empty()) {
+    return "refers into corrupt variable-length string storage (global heap collection at byte " +
+           std::to_string(address) + ": " + collection->second.fault + ")";
+  }
   const auto object = collection->second.objects.find(static_cast<std::uint16_t>(index));
-  return object != collection->second.objects.end() && object->second == length;
+  return object != collection->second.objects.end() && object->second == length ? "" : no_string;
 }
 
 // The references of a variable-length string dataset of `count` strings, read from its contiguous
@@ -914,15 +929,13 @@ void check_variable_length_strings(const Source& source, hsize_t count) {
   const std::string file_name = file_name_of(object);
   if (file_name.empty()) return;
   const HeapCheck& check = heap_check(file_name);
-  if (!check.error.empty()) fail(source.where, check.error);
   const std::vector<unsigned char> references = source.is_attribute()
                                                     ? attribute_references(source, file_name, count)
                                                     : dataset_references(source, file_name, count);
+  if (references.empty() && !check.error.empty()) fail(source.where, check.error);  // unchecked references
   for (std::size_t i = 0; i < references.size() / 16; ++i) {
-    if (!reference_is_sound(check, references.data() + 16 * i)) {
-      fail(source.where,
-           "corrupt: string " + std::to_string(i) + " refers to no stored string of its length");
-    }
+    const std::string fault = reference_fault(check, references.data() + 16 * i);
+    if (!fault.empty()) fail(source.where, "corrupt: string " + std::to_string(i) + " " + fault);
   }
 }
 
@@ -1061,7 +1074,8 @@ void AppendableDataset::append(std::span<const double> row_major_values) {
 }
 
 void AppendableDataset::truncate(hsize_t rows) {
-  if (!dataset_.valid()) throw Error("truncate() on an AppendableDataset not made by Group::create_appendable");
+  if (!dataset_.valid())
+    throw Error("truncate() on an AppendableDataset not made by Group::create_appendable");
   if (rows >= rows_) return;
   const hsize_t extent[2] = {rows, columns_};
   check_status(H5Dset_extent(dataset_.get(), extent), path_, "cannot shrink");
@@ -1235,7 +1249,8 @@ AppendableDataset Group::create_appendable_vector(std::string_view name, const C
   require_new(handle_.get(), name, location);
   std::vector<hsize_t> chunk = chunking.chunk;
   if (chunk.empty()) chunk = {kChunkTargetValues};
-  if (chunk.size() != 1 || chunk[0] == 0) fail(location, "the chunk of a 1-D appendable dataset is (rows) > 0");
+  if (chunk.size() != 1 || chunk[0] == 0)
+    fail(location, "the chunk of a 1-D appendable dataset is (rows) > 0");
   const hsize_t dims[1] = {0};
   const hsize_t max_dims[1] = {H5S_UNLIMITED};
   const Handle space(check_id(H5Screate_simple(1, dims, max_dims), location, "cannot create a dataspace"));
@@ -1543,6 +1558,20 @@ void File::commit() {
 
 void silence_hdf5_errors() {
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+}
+
+std::string numeric_type_fault(hid_t type) {
+  const H5T_class_t type_class = H5Tget_class(type);
+  const size_t size = H5Tget_size(type);
+  const size_t precision = H5Tget_precision(type);
+  const int offset = H5Tget_offset(type);
+  const bool integer = type_class == H5T_INTEGER && (size == 1 || size == 2 || size == 4 || size == 8);
+  const bool real = type_class == H5T_FLOAT && (size == 4 || size == 8);
+  const bool bits_inside =
+      precision > 0 && offset >= 0 && precision + static_cast<size_t>(offset) <= 8 * size;
+  if ((integer || real) && bits_inside) return "";
+  return "corrupt or unsupported type: " + describe_type(type) + " of " + std::to_string(precision) +
+         " bits at bit " + std::to_string(offset);
 }
 
 }  // namespace nvh::h5

@@ -210,6 +210,11 @@ class File {
   Group root_;
 };
 
+/// "" if `type` is a numeric type HDF5 can convert to a native double or int64 safely (an integer of 1, 2, 4 or
+/// 8 bytes, a float of 4 or 8 with its bits inside its size), else what it is ("float460864 data ..."): a
+/// corrupted type size made HDF5 1.10's conversion copy beyond its buffers.
+std::string numeric_type_fault(hid_t type);
+
 /// Turn HDF5's own error stack printing off for this process (our errors say what went wrong).
 /// Called once by File::create/open; safe to call again.
 void silence_hdf5_errors();

@@ -247,6 +247,14 @@ void open_hdf5(const ParsedAddress& a, const std::string& address, SignalInfo& i
   }
   impl.dataset = h5::Handle(H5Dopen2(root.id(), path.c_str(), H5P_DEFAULT));
   if (!impl.dataset.valid()) throw Error(where + ": cannot open the dataset");
+  {
+    const h5::Handle type(H5Dget_type(impl.dataset.get()));
+    const H5T_class_t type_class = type.valid() ? H5Tget_class(type.get()) : H5T_NO_CLASS;
+    if (type_class != H5T_FLOAT && type_class != H5T_INTEGER)
+      throw Error(where + ": expected numeric data (float or integer samples)");
+    if (const std::string fault = h5::numeric_type_fault(type.get()); !fault.empty())
+      throw Error(where + ": " + fault);
+  }
   std::string group_path = path.substr(0, path.rfind('/'));
   if (root.has_attribute("unit", path)) info.unit = root.string_attribute("unit", path);
   if (info.unit.empty() && root.has_attribute("units", path))
