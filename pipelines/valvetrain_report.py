@@ -18,6 +18,9 @@ The KPIs, from the channels of the scene's elements (names as in testdata/valvet
                       is off its seat again (cam deg)
   pushrod, pivot      largest pushrod force (/forces/pushrod/force_i) and rocker pivot reaction
                       (|/joints/rocker_shaft/reaction_force|), N
+  follower bearing    the largest reaction of the follower's bearing, N: the lever's pivot
+                      (|/joints/follower_pivot/reaction_force|, valvetrain_lever.toml) or the tappet's bore
+                      (|/joints/tappet_bore/reaction_force|: the side force the cam's pressure angle puts on it)
   drive torque        /forces/cam/cam_torque: largest and mean (N m; the mean is the friction-free work)
   spring              largest force (/forces/valve_spring/force_i) and the middle coil's surge: the largest
                       |x_3| (displacement of mass 3 from its quasi-static place, mm; of a chain of N masses,
@@ -48,7 +51,8 @@ Kinematic model (--kinematic, two runs of testdata/valvetrain/valvetrain_kinemat
                       spring force), to set beside the dynamic model's separation speed
 
 The separation speed is where the smallest cam force over the main event first reaches 0: from the last two
-points with contact, as F = A - B n^2 (the quasi-static force falls with the inertia, as the speed squared).
+points with contact, as F = A - B n^2 (the quasi-static force falls with the inertia, as the speed squared);
+where that fit lies beyond the first separated point, only the bracket of the grid's points is reported.
 """
 import argparse
 import json
@@ -66,6 +70,7 @@ COLUMNS = [  # key, header, unit, format
     ("hertz_seat", "p seat", "MPa", "{:.0f}"), ("seating_speed", "v seat", "m/s", "{:.3f}"),
     ("bounce_mm", "bounce", "mm", "{:.3f}"), ("bounce_deg", "bounce", "deg", "{:.1f}"),
     ("pushrod_max", "F pushrod", "N", "{:.0f}"), ("pivot_max", "F pivot", "N", "{:.0f}"),
+    ("follower_max", "F follower", "N", "{:.0f}"),
     ("torque_max", "T cam max", "N m", "{:.1f}"), ("torque_mean", "T cam mean", "N m", "{:.2f}"),
     ("spring_max", "F spring", "N", "{:.0f}"), ("surge_mm", "surge x3", "mm", "{:.3f}"),
 ]
@@ -146,6 +151,9 @@ def kpis(results: Path, valve: str = "valve", seat: str = "seat", spring: str = 
         else:
             k["pushrod_max"] = np.linalg.norm(r["joints/pushrod/reaction_force"][:][last], axis=1).max()
         k["pivot_max"] = np.linalg.norm(r["joints/rocker_shaft/reaction_force"][:][last], axis=1).max()
+        bearing = next((f"joints/{j}/reaction_force" for j in ("follower_pivot", "tappet_bore")
+                        if f"joints/{j}/reaction_force" in r), None)
+        k["follower_max"] = (np.linalg.norm(r[bearing][:][last], axis=1).max() if bearing else math.nan)
         torque = g("forces/cam/cam_torque")
         k["torque_max"], k["torque_mean"] = np.abs(torque).max(), torque.mean()
         # The spring as a chain of N masses (its force at the retainer; surge: the middle mass, x_3 of 5) or
@@ -160,19 +168,25 @@ def kpis(results: Path, valve: str = "valve", seat: str = "seat", spring: str = 
     return k
 
 
-def separation_speed(rows: list) -> float:
-    """The engine speed where the smallest event cam force first reaches 0, or nan. The force is clamped at 0
-    once the roller leaves the cam, so the onset is found from the last two points with contact: the quasi-static
-    force falls with the inertia, as F = A - B n^2 in the speed n; fitted through those two points."""
+def separation_speed(rows: list) -> tuple:
+    """The engine speed where the smallest event cam force first reaches 0, and the grid's bracket around it
+    (the last point in contact, the first separated), or nans. The force is clamped at 0 once the roller leaves
+    the cam, so the onset is found from the last two points with contact: the quasi-static force falls with the
+    inertia, as F = A - B n^2 in the speed n; fitted through those two points. The dynamic force falls faster
+    than that (the spring's surge, the chain's ringing grow with speed), so a fit beyond the first separated
+    point is not an estimate: then the onset is only known to lie within the bracket (returned as nan, lo, hi)."""
     rows = sorted(rows, key=lambda k: k["engine_rpm"])
-    for i in range(1, len(rows)):
+    for i in range(len(rows)):
         if rows[i]["cam_force_min"] <= 0:
+            hi = rows[i]["engine_rpm"]
+            lo = rows[i - 1]["engine_rpm"] if i > 0 else math.nan
             if i < 2:
-                return rows[i]["engine_rpm"] if i == 0 else math.nan
+                return (hi if i == 0 else math.nan), lo, hi
             (n1, f1), (n2, f2) = [(k["engine_rpm"], k["cam_force_min"]) for k in rows[i - 2:i]]
             b = (f1 - f2) / (n2 * n2 - n1 * n1)
-            return math.sqrt((f2 + b * n2 * n2) / b) if b > 0 else rows[i]["engine_rpm"]
-    return math.nan
+            fit = math.sqrt((f2 + b * n2 * n2) / b) if b > 0 else hi
+            return (fit if fit <= hi else math.nan), lo, hi
+    return math.nan, math.nan, math.nan
 
 
 INSTALLED, LIFT, G, RHO, TAU_MAX, CLASH_MIN, SURGE_HARMONIC, FORCE_MARGIN = 0.060, 0.014, 79.3e9, 7850.0, 900e6, 1e-3, 13, 100.0
@@ -272,11 +286,17 @@ def main() -> int:
              head, units]
     for k in rows:
         lines.append("".join(f"{fmt.format(k[key]):>11s}" for key, _, _, fmt in columns))
-    sep = separation_speed(rows)
+    sep, sep_lo, sep_hi = separation_speed(rows)
     lines.append("")
-    lines.append("separation (the smallest cam force over the main event reaches 0): " +
-                 (f"at {sep:.0f} rpm engine speed" if math.isfinite(sep) else
-                  f"none up to {rows[-1]['engine_rpm']:.0f} rpm"))
+    bracket = (f" (in contact at {sep_lo:.0f}, separated at {sep_hi:.0f} rpm)" if math.isfinite(sep_lo) else "")
+    if math.isfinite(sep):
+        onset = f"at {sep:.0f} rpm engine speed{bracket}"
+    elif math.isfinite(sep_hi):
+        onset = (f"between {sep_lo:.0f} and {sep_hi:.0f} rpm engine speed (the quasi-static fit through the last two "
+                 f"points in contact lies beyond the first separated one: a finer grid there gives the onset)")
+    else:
+        onset = f"none up to {rows[-1]['engine_rpm']:.0f} rpm"
+    lines.append("separation (the smallest cam force over the main event reaches 0): " + onset)
     if kin:
         lines.append(f"kinematic model (rigid chain, valvetrain_kinematic.toml): largest lift {kin['lift_max_mm']:.3f} mm; "
                      f"the follower would leave the cam at {kin['separation_rpm']:.0f} rpm engine speed "
