@@ -292,8 +292,8 @@ def main() -> int:
     if math.isfinite(sep):
         onset = f"at {sep:.0f} rpm engine speed{bracket}"
     elif math.isfinite(sep_hi):
-        onset = (f"between {sep_lo:.0f} and {sep_hi:.0f} rpm engine speed (the quasi-static fit through the last two "
-                 f"points in contact lies beyond the first separated one: a finer grid there gives the onset)")
+        onset = (f"between {sep_lo:.0f} and {sep_hi:.0f} rpm engine speed (no quasi-static fit inside that bracket: "
+                 f"a finer grid there gives the onset)")
     else:
         onset = f"none up to {rows[-1]['engine_rpm']:.0f} rpm"
     lines.append("separation (the smallest cam force over the main event reaches 0): " + onset)
