@@ -749,6 +749,12 @@ struct HeapCheck {
   std::string error;  // the first fault of a collection with a sound header, "" if none
 };
 
+// The message of a faulty collection at `offset` of the file.
+std::string collection_fault_text(std::uint64_t offset, const std::string& fault) {
+  return "corrupt variable-length string storage (global heap collection at byte " + std::to_string(offset) +
+         ": " + fault + ")";
+}
+
 std::uint64_t little_endian(const unsigned char* p, int bytes) {
   std::uint64_t value = 0;
   for (int i = bytes - 1; i >= 0; --i) value = (value << 8) | p[i];
@@ -855,8 +861,7 @@ const HeapCheck& heap_check(const std::string& file_name) {
     }
     const bool sound_header = header[4] == 1 && header[5] == 0 && header[6] == 0 && header[7] == 0;
     if (!fault.empty() && sound_header && check.error.empty()) {
-      check.error = "corrupt variable-length string storage (global heap collection at byte " +
-                    std::to_string(offset) + ": " + fault + ")";
+      check.error = collection_fault_text(offset, fault);
     }
     collection.fault = fault;
     check.collections.emplace(offset, std::move(collection));
@@ -877,8 +882,7 @@ std::string reference_fault(const HeapCheck& check, const unsigned char* referen
   const auto collection = check.collections.find(address);
   if (collection == check.collections.end() || index > 0xffff) return no_string;
   if (!collection->second.fault.empty()) {
-    return "refers into corrupt variable-length string storage (global heap collection at byte " +
-           std::to_string(address) + ": " + collection->second.fault + ")";
+    return "refers into " + collection_fault_text(address, collection->second.fault);
   }
   const auto object = collection->second.objects.find(static_cast<std::uint16_t>(index));
   return object != collection->second.objects.end() && object->second == length ? "" : no_string;
