@@ -40,7 +40,8 @@ mean_diameter D; installed length 60 mm and valve lift 14 mm as in the scene), c
 The best design: feasible, with the smallest largest cam force (Hertz pressure, friction and drive torque fall
 with it).
 
-Kinematic model (--kinematic, two runs of testdata/valvetrain/valvetrain_kinematic.toml at different speeds):
+Kinematic model (--kinematic, two runs of testdata/valvetrain/valvetrain_kinematic.toml, or of
+valvetrain_lever_kinematic.toml for the lever follower, at different speeds):
   kinematic lift      the valve's displacement less the lash (--lash, 0.5 mm) where positive (the paper's kinematic
                       model: "the cold lash is specified as a constant value"); drawn under each dynamic lift
   lift deviation      per speed: the largest |dynamic - kinematic lift| over the main event (mm), column "dlift"
@@ -98,7 +99,11 @@ def kinematic(files: list, lash: float) -> dict:
             cam_rpm = (angle[-1] - angle[0]) / (t[-1] - t[0]) / 6.0
             y = r["bodies/valve/position"][:, 1]
             disp = (y[0] - y)[last]
-            force = r["joints/cam/reaction_force"][:, 1][last]  # the cam on the tappet, along the bore (+y)
+            # The cam's force on the follower, signed: + pushes. A lift driver's reaction lies along the tappet's
+            # bore (y); a cam joint's along the pitch curve's normal, whose y component is positive wherever the
+            # follower stands above the cam (valvetrain_lever_kinematic.toml): |F| with the sign of F_y.
+            f = r["joints/cam/reaction_force"][:][last]
+            force = np.sign(f[:, 1]) * np.linalg.norm(f, axis=1)
             runs.append((cam_rpm, a, disp, force))
     (n1, a1, d1, f1), (n2, a2, _, f2) = sorted(runs)[:2]
     if abs(n2 - n1) < 1e-6 * n2:
@@ -246,7 +251,7 @@ def main() -> int:
     ap.add_argument("dir", type=Path)
     ap.add_argument("--spring-study", action="store_true", help="the spring design study's constraints and choice")
     ap.add_argument("--kinematic", nargs=2, type=Path, metavar="K.h5",
-                    help="results of valvetrain_kinematic.toml at two cam speeds: kinematic lift, the lift's "
+                    help="results of valvetrain_kinematic.toml (or _lever_kinematic) at two cam speeds: kinematic lift, the lift's "
                          "deviation per speed and the rigid chain's separation speed")
     ap.add_argument("--lash", type=float, default=0.0005, help="valve lash (m) for the kinematic lift (0.0005)")
     args = ap.parse_args()
@@ -298,7 +303,7 @@ def main() -> int:
         onset = f"none up to {rows[-1]['engine_rpm']:.0f} rpm"
     lines.append("separation (the smallest cam force over the main event reaches 0): " + onset)
     if kin:
-        lines.append(f"kinematic model (rigid chain, valvetrain_kinematic.toml): largest lift {kin['lift_max_mm']:.3f} mm; "
+        lines.append(f"kinematic model (rigid chain): largest lift {kin['lift_max_mm']:.3f} mm; "
                      f"the follower would leave the cam at {kin['separation_rpm']:.0f} rpm engine speed "
                      f"(cam angle {kin['separation_deg']:.1f} deg)")
     lines += [f"FAILED: {f}" for f in failed]

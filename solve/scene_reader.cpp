@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "common/input.hpp"
+#include "solve/cam/cam_joint.hpp"
 #include "solve/cam/cam_profile.hpp"
 #include "solve/element_registry.hpp"
 #include "solve/flexible_body.hpp"
@@ -222,7 +223,7 @@ class SceneReader {
                                                            {"cylindrical", JointType::kCylindrical},
                                                            {"in-line", JointType::kInLine}};
     const std::string type = t.choice("type", {"fixed", "revolute", "spherical", "prismatic", "cylindrical",
-                                               "in-line", "distance", "in-plane"});
+                                               "in-line", "distance", "in-plane", "cam"});
     const MarkerRef i = marker(t, "i"), j = marker(t, "j");
     std::unique_ptr<Constraint> c;
     if (type == "distance") {
@@ -234,6 +235,10 @@ class SceneReader {
       c = make_distance_joint(length);
     } else if (type == "in-plane") {
       c = make_in_plane_joint(t.optional_number("offset", Range::magnitude(1e3)).value_or(0.0));
+    } else if (type == "cam") {
+      // The roller's centre on the cam's pitch curve (the profile's keys as for roller-cam, section 2 of
+      // docs/valvetrain.md; the reader refuses a roller that undercuts the profile).
+      c = make_cam_joint(cam::read_cam_profile(t, base_, s_.input_files));
     } else {
       c = make_joint(types.at(type));
     }

@@ -14,6 +14,7 @@
 // undercuts (forms a cusp) and the roller cannot follow the lift (check_roller_fits).
 #include "solve/cam/cam_profile.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -57,6 +58,25 @@ PitchPoint pitch_point(const CamProfile& profile, double psi) {
     p.radius_derivative = (dn * den - speed * speed * speed * dd) / (den * den);
   }
   return p;
+}
+
+PitchFoot pitch_foot(const CamProfile& profile, double cx, double cy) {
+  PitchFoot f;
+  f.psi = std::atan2(cy, cx);
+  f.point = pitch_point(profile, f.psi);
+  for (int it = 0; it < 30; ++it) {
+    const PitchPoint& pp = f.point;
+    const double ex = pp.x - cx, ey = pp.y - cy;
+    const double g = ex * pp.dx + ey * pp.dy;
+    const double dg = pp.dx * pp.dx + pp.dy * pp.dy + ex * pp.ddx + ey * pp.ddy;
+    double step = dg > 0 ? -g / dg : -g / (pp.dx * pp.dx + pp.dy * pp.dy);
+    step = std::clamp(step, -0.2, 0.2);
+    f.psi += step;
+    f.point = pitch_point(profile, f.psi);
+    if (std::abs(step) < 1e-14) break;
+  }
+  f.gap = f.point.nx * (cx - f.point.x) + f.point.ny * (cy - f.point.y);
+  return f;
 }
 
 double surface_radius_of_curvature(const CamProfile& profile, double psi) {

@@ -3,9 +3,9 @@
 // defines (the path of the roller's centre in the cam's frame).
 //
 // Convention (docs/valvetrain.md, section 1): a cam profile is the lift s(theta) (m) that a radial, in-line
-// translating roller follower of radius Rr sees as the cam turns by theta (rad) about its +z axis, the follower
-// lying on the cam marker's +x axis at theta = 0. In the cam's own frame (the marker's x-y plane) the roller's
-// centre then runs on the pitch curve
+// translating roller follower of radius Rr sees as the cam turns by theta (rad) about its +z axis, the
+// follower lying on the cam marker's +x axis at theta = 0. In the cam's own frame (the marker's x-y plane)
+// the roller's centre then runs on the pitch curve
 //   P(psi) = rho(psi) [cos psi, sin psi],   rho(psi) = Rb + Rr + s(-psi),
 // psi the polar angle about +z from +x. The cam surface is the inner offset of the pitch curve by Rr. Any
 // other follower (a pivoting roller lever, an offset lifter) uses the same pitch curve: its roller's centre
@@ -13,9 +13,9 @@
 //
 // A profile answers lift(theta) with the derivatives by theta (the cam's kinematics: velocity = s' omega,
 // acceleration = s'' omega^2 at constant speed omega) and is periodic in 2 pi. Which profiles exist and their
-// closed forms: tangent_cam.cpp (the paper's eccentric circular cam, 001 eq. 1, and the tangent cam of circular
-// arcs and straight flanks), table_cam.cpp (a tabulated lift), polynomial_cam.cpp (polynomial flanks with
-// opening and closing ramps for the lash). Constructors and per-profile readers: profiles.hpp.
+// closed forms: tangent_cam.cpp (the paper's eccentric circular cam, 001 eq. 1, and the tangent cam of
+// circular arcs and straight flanks), table_cam.cpp (a tabulated lift), polynomial_cam.cpp (polynomial flanks
+// with opening and closing ramps for the lash). Constructors and per-profile readers: profiles.hpp.
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -56,17 +56,29 @@ struct PitchPoint {
 };
 PitchPoint pitch_point(const CamProfile& profile, double psi);
 
+/// The foot of a point c = (cx, cy) of the cam's frame (m) on the pitch curve: the point P(psi) whose normal
+/// passes through c, found by Newton on f(psi) = (P - c) . P'(psi) = 0 from psi = atan2(cy, cx) (a convex
+/// pitch curve near c converges in a few steps; the step is limited to 0.2 rad so that a poor start cannot
+/// jump to another lobe). `gap` = n . (c - P) is the signed distance of c from the curve (> 0 outside).
+struct PitchFoot {
+  double psi = 0;  // the foot's polar angle (rad)
+  PitchPoint point;
+  double gap = 0;  // m
+};
+PitchFoot pitch_foot(const CamProfile& profile, double cx, double cy);
+
 /// The radius of curvature (m) of the cam surface under the roller: that of the pitch curve minus Rr
 /// (> 0 convex, < 0 concave).
 double surface_radius_of_curvature(const CamProfile& profile, double psi);
 
 /// Checks a profile on a fine grid of `samples` angles: the cam surface must not undercut (the pitch curve's
-/// convex radius of curvature larger than the roller's radius). Throws nvh::Error naming `what`, the cam angle
-/// (deg) of the worst point and both radii.
+/// convex radius of curvature larger than the roller's radius). Throws nvh::Error naming `what`, the cam
+/// angle (deg) of the worst point and both radii.
 void check_roller_fits(const CamProfile& profile, const std::string& what, int samples = 3600);
 
-/// The profile of a scene or component table: `profile = "tangent" | "eccentric" | "table" | "polynomial"` and
-/// its keys (docs/valvetrain.md). Relative file names start at `base`; files read are appended to `inputs`.
+/// The profile of a scene or component table: `profile = "tangent" | "eccentric" | "table" | "polynomial"`
+/// and its keys (docs/valvetrain.md). Relative file names start at `base`; files read are appended to
+/// `inputs`.
 std::unique_ptr<CamProfile> read_cam_profile(const input::Table& t, const std::filesystem::path& base,
                                              std::vector<std::filesystem::path>& inputs);
 

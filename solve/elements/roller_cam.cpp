@@ -145,21 +145,9 @@ class RollerCam final : public ForceElement {
     Contact k;
     k.r = mi.position - mj.position;
     const Vec3 c = mj.axes.transpose() * k.r;
-    double psi = std::atan2(c.y(), c.x());
-    cam::PitchPoint pp = cam::pitch_point(*profile_, psi);
-    // Newton on f(psi) = (P - c) . P' (the foot of the normal); a convex pitch curve near c converges in a
-    // few steps; the step is limited so that a poor start cannot jump to another lobe.
-    for (int it = 0; it < 30; ++it) {
-      const double ex = pp.x - c.x(), ey = pp.y - c.y();
-      const double f = ex * pp.dx + ey * pp.dy;
-      const double df = pp.dx * pp.dx + pp.dy * pp.dy + ex * pp.ddx + ey * pp.ddy;
-      double step = df > 0 ? -f / df : -f / (pp.dx * pp.dx + pp.dy * pp.dy);
-      step = std::clamp(step, -0.2, 0.2);
-      psi += step;
-      pp = cam::pitch_point(*profile_, psi);
-      if (std::abs(step) < 1e-14) break;
-    }
-    k.psi = psi;
+    const cam::PitchFoot foot = cam::pitch_foot(*profile_, c.x(), c.y());
+    const cam::PitchPoint& pp = foot.point;
+    k.psi = foot.psi;
     k.pitch_radius = pp.radius_of_curvature;
     k.pitch_radius_rate = pp.radius_derivative;
     const Vec3 n_cam(pp.nx, pp.ny, 0.0);
@@ -168,7 +156,7 @@ class RollerCam final : public ForceElement {
     k.n = mj.axes * n_cam;
     k.t = mj.axes * Vec3(pp.dx / tl, pp.dy / tl, 0.0);
     k.z = mj.axes.col(2);
-    k.gap = n_cam.x() * (c.x() - pp.x) + n_cam.y() * (c.y() - pp.y);
+    k.gap = foot.gap;
     k.vr = mi.velocity - mj.velocity - mj.angular_velocity.cross(k.r);
     k.rate = -k.n.dot(k.vr);
     k.surface = -k.t.dot(k.vr) - rr_ * k.z.dot(mj.angular_velocity);

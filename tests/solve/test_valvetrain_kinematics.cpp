@@ -53,12 +53,27 @@ Chain chain(double s, double ds, double dds) {
   return {phi, dphi, ddphi};
 }
 
-TEST(ValvetrainKinematics, ValveLiftVelocityAccelerationFollowTheChainsClosedForm) {
+// The shipped kinematic scene with its cam either the lift driver (the tappet moved along its bore) or the
+// cam joint (the roller's centre held on the cam's pitch curve: the tappet is then moved by the camshaft's
+// rotation, docs/valvetrain.md section 2), against the same closed form.
+void check_kinematic_chain(bool cam_joint) {
   // One cam revolution and a little, at a lower sample rate: the kinematics do not depend on the length.
-  const std::string text = testing::shipped_scene(
+  std::string text = testing::shipped_scene(
       "valvetrain/valvetrain_kinematic.toml",
       {{"end_angle_deg = 760", "end_angle_deg = 370"}, {"sample_rate_hz = 40000", "sample_rate_hz = 5000"}});
-  const auto out = testing::run_text(text, "valvetrain_kinematic");
+  if (cam_joint) {
+    const std::string driver =
+        "[[driver]]\nname = \"cam\"               # the kinematic cam: the roller-cam's profile, prescribed\n"
+        "type = \"lift\"\ni = \"tappet.slide\"\nj = \"ground.tappet_bore\"\nrpm = 650                  # "
+        "sweep: "
+        "cam_rpm\nphase_deg = -90\n";
+    const auto at = text.find(driver);
+    ASSERT_NE(at, std::string::npos) << "valvetrain_kinematic.toml's lift driver has changed";
+    text.replace(at, driver.size(),
+                 "[[joint]]\nname = \"cam\"\ntype = \"cam\"\ni = \"tappet.roller\"\nj = \"camshaft.lobe\"\n");
+  }
+  const auto out =
+      testing::run_text(text, cam_joint ? "valvetrain_kinematic_cam_joint" : "valvetrain_kinematic");
   // The cam of the scene: the polynomial profile of valvetrain.toml, 650 rpm, phase -90 deg.
   cam::PolynomialEvent e;
   e.lift = 0.00966, e.rise_angle = 52 * kPi / 180, e.ramp_angle = 22 * kPi / 180, e.ramp_height = 0.0004;
@@ -90,15 +105,25 @@ TEST(ValvetrainKinematics, ValveLiftVelocityAccelerationFollowTheChainsClosedFor
   const double top = -kB * std::sin(chain(e.lift, 0, 0).phi);
   EXPECT_NEAR(top, 0.0140036, 1e-7);
   EXPECT_NEAR(lift_max, top, 1e-6);
-  EXPECT_LT(err_s, 1e-10);         // m: the lift driver follows the profile to round-off (measured 8e-12)
-  EXPECT_LT(err_y, 1e-9);          // m, of 14 mm: the run's rtol 1e-8, atol 1e-11 (measured 1.2e-11)
-  EXPECT_LT(err_v, 1e-7 * v_max);  // of 1.8 m/s (measured 5e-9 m/s)
-  EXPECT_LT(err_a, 1e-5 * a_max);  // of 407 m/s^2, from IDA's y' (not error-controlled; measured 1.8e-4)
-  RecordProperty("valve_lift_error_m", std::to_string(err_y));
+  EXPECT_LT(
+      err_s,
+      1e-10);  // m: the driver or joint follows the profile to round-off (measured 6e-12; 5.7e-11 joint)
+  EXPECT_LT(err_y, 1e-9);          // m, of 14 mm: rtol 1e-8, atol 1e-11 (measured 9e-12; 8.3e-11 joint)
+  EXPECT_LT(err_v, 1e-7 * v_max);  // of 1.8 m/s (measured 7.4e-9 m/s; 4.0e-8 joint)
+  EXPECT_LT(err_a, 1e-5 * a_max);  // of 407 m/s^2, IDA's y' (not error-controlled; measured 6.7e-4, 8.4e-4)
+  ::testing::Test::RecordProperty("valve_lift_error_m", std::to_string(err_y));
   std::printf(
-      "kinematic chain: lift %.7f mm; errors: tappet %.2e m, valve %.2e m, %.2e m/s (of %.3f), "
+      "kinematic chain (%s): lift %.7f mm; errors: tappet %.2e m, valve %.2e m, %.2e m/s (of %.3f), "
       "%.2e m/s^2 (of %.0f)\n",
-      lift_max * 1e3, err_s, err_y, err_v, v_max, err_a, a_max);
+      cam_joint ? "cam joint" : "lift driver", lift_max * 1e3, err_s, err_y, err_v, v_max, err_a, a_max);
+}
+
+TEST(ValvetrainKinematics, ValveLiftVelocityAccelerationFollowTheChainsClosedForm) {
+  check_kinematic_chain(false);
+}
+
+TEST(ValvetrainKinematics, CamJointMovesTheTappetByTheProfilesLift) {
+  check_kinematic_chain(true);
 }
 
 // The rigid chain's separation speed (issue 13's verification: "a rigid, very stiff chain reproduces the
