@@ -1,11 +1,12 @@
 #!/usr/bin/python3
 """Valvetrain benchmark (issue 13): CPU time against real time and against accuracy (work-precision).
 
-    bench/valvetrain_bench.py [--build build] [--out out/bench/valvetrain] [--cam-rpm 975] [--quick]
+    bench/valvetrain_bench.py [--build build] [--out out/bench/valvetrain] [--cam-rpm 975] [--quick] [--only NAME..]
 
 For the single-valve scene (testdata/valvetrain/valvetrain.toml), the bridge scene with two valves
-(valvetrain_bridge.toml) and the bridge scene with the flexible rocker of valvetrain_flexible_rocker.toml (the
-issue's benchmark scene; rocker.toml condensed into OUT first) at a cam speed (default 975 rpm: 1950 rpm engine, a heavy-duty diesel's rated speed),
+(valvetrain_bridge.toml), the bridge scene with the flexible rocker of valvetrain_flexible_rocker.toml (the
+issue's benchmark scene; rocker.toml condensed into OUT first) and the single valve with the paper's lever
+follower (valvetrain_lever.toml) at a cam speed (default 975 rpm: 1950 rpm engine, a heavy-duty diesel's rated speed),
 two cam revolutions each (the KPIs read the second), with the integrator settings below, it prints:
   - CPU seconds per cam revolution (solve's own /solver/statistics wall_s / 2) and that against real time
     (one revolution lasts 60 / rpm s): < 1 is faster than real time;
@@ -43,6 +44,7 @@ SCENES = {  # name: file, valve body, seat, spring (the cam element is "cam" in 
     "single valve": ("valvetrain.toml", "valve", "seat", "valve_spring", False),
     "bridge, two valves": ("valvetrain_bridge.toml", "valve1", "seat1", "valve1_spring", False),
     "bridge, flexible rocker": ("valvetrain_bridge.toml", "valve1", "seat1", "valve1_spring", True),
+    "lever follower": ("valvetrain_lever.toml", "valve", "seat", "valve_spring", False),
 }
 
 
@@ -82,17 +84,21 @@ def main() -> int:
     ap.add_argument("--out", type=Path, default=ROOT / "out/bench/valvetrain")
     ap.add_argument("--cam-rpm", type=float, default=975.0)
     ap.add_argument("--quick", action="store_true", help="the single-valve scene only")
+    ap.add_argument("--only", nargs="*", help="the scenes whose name contains one of these (e.g. lever)")
     args = ap.parse_args()
     solve = args.build / "solve/solve"
     args.out.mkdir(parents=True, exist_ok=True)
     rev_s = 60.0 / args.cam_rpm
     rows = []
     rocker = args.out / "rocker.h5"
-    if not args.quick:  # the flexible rocker's superelement (docs/valvetrain.md section 5)
+    if not args.quick and (not args.only or any(o in "bridge, flexible rocker" for o in args.only)):
+        # the flexible rocker's superelement (docs/valvetrain.md section 5)
         subprocess.run([str(args.build / "condense/condense"), str(ROOT / "testdata/valvetrain/rocker.toml"), "-o",
                         str(rocker), "-q"], check=True)
     for scene, (file, valve, seat, spring, flexible) in SCENES.items():
         if args.quick and scene != "single valve":
+            continue
+        if args.only and not any(o in scene for o in args.only):
             continue
         ref = None
         print(f"\n{scene} ({file}) at {args.cam_rpm:.0f} cam rpm ({2 * args.cam_rpm:.0f} engine rpm); one cam "
@@ -128,7 +134,7 @@ def main() -> int:
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
         fig, ax = plt.subplots(figsize=(8, 5.5))
-        for scene, marker in zip(SCENES, "os^"):
+        for scene, marker in zip(SCENES, "os^D"):
             for method, color in (("IDA", "C0"), ("g-alpha", "C1")):
                 pts = [(r["max_kpi_error"], r["cpu_per_rev_s"], r["setting"]) for r in rows
                        if r["scene"] == scene and r["setting"].startswith(method) and r["max_kpi_error"] > 0]
