@@ -28,6 +28,7 @@
 
 #include <Eigen/Dense>
 
+#include "beam_statics.hpp"
 #include "common/hdf5.hpp"
 #include "common/log.hpp"
 #include "common/provenance.hpp"
@@ -42,6 +43,8 @@ namespace nvh::solve {
 namespace {
 
 namespace fs = std::filesystem;
+using beam_statics::cantilever;
+using beam_statics::Compliance;
 const fs::path kValvetrain = fs::path(NVH_SOURCE_DIR) / "testdata/valvetrain";
 constexpr double kBall = -0.040, kFoot = 0.058;  // m from the pivot, along the arm (component x)
 
@@ -50,16 +53,8 @@ constexpr double kBall = -0.040, kFoot = 0.058;  // m from the pivot, along the 
 // at the pivot boss's edge to the end value at the end boss's edge), solid rectangles at the ends, and the
 // pivot boss as two ligaments around the bore. nu = 0.3.
 constexpr double kNu = 0.3;
-struct Section {
-  double A, Iy, Iz, J, kappa;
-};
-
-Section rectangle(double h, double b) {  // h along y (in the plane of motion), b along z
-  const double a = std::max(h, b), c = std::min(h, b);
-  return {h * b, h * b * b * b / 12, b * h * h * h / 12,
-          a * c * c * c * (1.0 / 3 - 0.21 * c / a * (1 - std::pow(c / a, 4) / 12)),  // Roark table 10.1
-          10 * (1 + kNu) / (12 + 11 * kNu)};                                         // Cowper
-}
+using beam_statics::rectangle;
+using beam_statics::Section;
 
 Section i_section(double h, double b, double t) {
   const double web = h - 2 * t, hc = h - t, m = 2 * b * t / (hc * t), n = b / hc;
@@ -102,73 +97,8 @@ condense::Component rocker_component() {
   return condense::read_component(kValvetrain / "rocker.toml");
 }
 
-// ------------------------------------------------------------------ the stepped cantilever, closed form
-struct Compliance {
-  double bending = 0, shear = 0, axial = 0;  // m/N
-  double transverse() const { return bending + shear; }
-};
-
-/// The arm from the pivot (x = 0) to the load point x_load, clamped at the pivot, from the file's sections.
-Compliance cantilever(const condense::Component& c, double x_load) {
-  const condense::Material& steel = c.materials.at(c.beam.material);
-  const double E = steel.E, G = steel.shear_modulus(), L = std::abs(x_load);
-  Compliance out;
-  for (std::size_t s = 0; s + 1 < c.beam.points.size(); ++s) {
-    const double x0 = c.beam.points[s][0], x1 = c.beam.points[s + 1][0];
-    if (x0 * x_load < 0 || x1 * x_load < 0) continue;  // the other arm: no moment from this load
-    const double a = std::min(std::abs(x0), std::abs(x1)), b = std::max(std::abs(x0), std::abs(x1));
-    const condense::BeamSection& sec = c.beam.segment_sections[s];
-    out.bending += (std::pow(L - a, 3) - std::pow(L - b, 3)) / (3 * E * sec.Iz);
-    out.shear += (b - a) / (sec.shear_factor.value() * G * sec.A);
-    out.axial += (b - a) / (E * sec.A);
-  }
-  return out;
-}
-
-// ------------------------------------------------------------------ the superelement's static compliance
 condense::Superelement condense_rocker(const condense::Component& c) {
-  std::ostringstream quiet;
-  const Logger log(quiet, "test", Verbosity::kQuiet);
-  return condense::condense_component(c, condense::EigenBackend::kSpectra, log);
-}
-
-/// Displacement [u; theta] of interface point p per unit of z = [a (3), phi (3), eta (n)]: the rigid motion
-/// (translation a of the origin, small rotation phi: u = a + phi x r_p) the orthonormalized basis leaves to
-/// the floating frame, and its elastic coordinates.
-Eigen::MatrixXd point_map(const condense::Superelement& se, int p) {
-  const int n = se.size();
-  const Eigen::Vector3d r = se.interfaces.position.row(p).transpose();
-  Eigen::Matrix3d rx;
-  rx << 0, -r.z(), r.y(), r.z(), 0, -r.x(), -r.y(), r.x(), 0;
-  Eigen::MatrixXd b = Eigen::MatrixXd::Zero(6, 6 + n);
-  b.block<3, 3>(0, 0).setIdentity();
-  b.block<3, 3>(0, 3) = -rx;
-  b.block<3, 3>(3, 3).setIdentity();
-  b.rightCols(n) = se.interfaces.shapes[p];
-  return b;
-}
-
-int point_index(const condense::Superelement& se, const std::string& name) {
-  for (std::size_t k = 0; k < se.interfaces.names.size(); ++k)
-    if (se.interfaces.names[k] == name) return static_cast<int>(k);
-  ADD_FAILURE() << "no interface point " << name;
-  return 0;
-}
-
-/// Displacement of `point` along component axis `dof` (0 x, 1 y) under a unit force along it, the pivot's
-/// six DOF held: K z = B_q^T f with B_pivot z = 0 (Lagrange multipliers), K = diag(0 (rigid), K_reduced).
-double static_compliance(const condense::Superelement& se, const std::string& point, int dof) {
-  const int n = se.size(), m = 6 + n;
-  const Eigen::MatrixXd bp = point_map(se, point_index(se, "pivot")),
-                        bq = point_map(se, point_index(se, point));
-  Eigen::MatrixXd kkt = Eigen::MatrixXd::Zero(m + 6, m + 6);
-  kkt.block(6, 6, n, n) = se.stiffness;
-  kkt.block(m, 0, 6, m) = bp;
-  kkt.block(0, m, m, 6) = bp.transpose();
-  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(m + 6);
-  rhs.head(m) = bq.row(dof).transpose();
-  const Eigen::VectorXd z = kkt.fullPivLu().solve(rhs);
-  return bq.row(dof).dot(z.head(m));
+  return beam_statics::condense_quietly(c);
 }
 
 TEST(FlexibleRocker, SectionsAreTheDimensionsOfItsComments) {
@@ -221,7 +151,8 @@ TEST(FlexibleRocker, StaticComplianceWithThePivotClampedIsTheSteppedCantilevers)
   const condense::Superelement se = condense_rocker(c);
   for (const auto& [name, x] : {std::pair<std::string, double>{"foot", kFoot}, {"ball", kBall}}) {
     const Compliance ref = cantilever(c, x);
-    const double transverse = static_compliance(se, name, 1), axial = static_compliance(se, name, 0);
+    const double transverse = beam_statics::static_compliance(se, "pivot", name, name, 1),
+                 axial = beam_statics::static_compliance(se, "pivot", name, name, 0);
     std::printf(
         "measured: %s %.6e m/N (%.1f N/um; closed form %.6e = bending %.3e + shear %.3e), error %.1e; "
         "along the arm %.6e m/N (closed form %.6e), error %.1e\n",
