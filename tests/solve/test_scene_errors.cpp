@@ -30,16 +30,20 @@ inertia = [0.1, 0.1, 0.1]
 )";
 const std::string kClock = "[clock]\nend_time = 0.01\n";
 
-std::string error_of(const std::string& text) { return testing::scene_error(text); }
+std::string error_of(const std::string& text) {
+  return testing::scene_error(text);
+}
 
 TEST(SolveSceneErrors, UnknownBodyInAJointIsNamedWithASuggestion) {
-  const std::string msg = error_of(kBase + "[[joint]]\nname = \"j\"\ntype = \"revolute\"\ni = \"amr.pivot\"\nj = \"ground.a\"\n" + kClock);
+  const std::string msg = error_of(
+      kBase + "[[joint]]\nname = \"j\"\ntype = \"revolute\"\ni = \"amr.pivot\"\nj = \"ground.a\"\n" + kClock);
   EXPECT_NE(msg.find("bad.toml:17"), std::string::npos) << msg;
   EXPECT_NE(msg.find("no body 'amr' (did you mean 'arm'?)"), std::string::npos) << msg;
 }
 
 TEST(SolveSceneErrors, MarkerNotOnItsBodyListsTheMarkers) {
-  const std::string msg = error_of(kBase + "[[joint]]\nname = \"j\"\ntype = \"revolute\"\ni = \"arm.tip\"\nj = \"ground.a\"\n" + kClock);
+  const std::string msg = error_of(
+      kBase + "[[joint]]\nname = \"j\"\ntype = \"revolute\"\ni = \"arm.tip\"\nj = \"ground.a\"\n" + kClock);
   EXPECT_NE(msg.find("body 'arm' has no marker 'tip'"), std::string::npos) << msg;
   EXPECT_NE(msg.find("its markers: pivot"), std::string::npos) << msg;
 }
@@ -49,30 +53,55 @@ TEST(SolveSceneErrors, NonPositiveMassAndInertia) {
   EXPECT_NE(error_of(std::string(text).replace(text.find("mass = 1.0"), 10, "mass = 0.0"))
                 .find("mass': expected a number in (0, 1e+12], got 0"),
             std::string::npos);
-  EXPECT_NE(error_of(std::string(text).replace(text.find("[0.1, 0.1, 0.1]"), 15, "[0.1, -0.1, 0.1]")).find("positive definite"),
+  EXPECT_NE(error_of(std::string(text).replace(text.find("[0.1, 0.1, 0.1]"), 15, "[0.1, -0.1, 0.1]"))
+                .find("positive definite"),
             std::string::npos);
-  EXPECT_NE(error_of(std::string(text).replace(text.find("[0.1, 0.1, 0.1]"), 15, "[0.1, 0.1, 0.5]")).find("triangle inequality"),
+  EXPECT_NE(error_of(std::string(text).replace(text.find("[0.1, 0.1, 0.1]"), 15, "[0.1, 0.1, 0.5]"))
+                .find("triangle inequality"),
             std::string::npos);
 }
 
 TEST(SolveSceneErrors, TableNotMonotonicInItsAbscissa) {
-  const std::string msg = error_of(kBase + "[[load]]\nname = \"p\"\ntype = \"force\"\nat = \"arm.pivot\"\ndirection = [0, 0, 1]\n"
-                                           "table = [[0.0, 1.0], [0.2, 2.0], [0.1, 3.0]]\n" + kClock);
+  const std::string msg =
+      error_of(kBase +
+               "[[load]]\nname = \"p\"\ntype = \"force\"\nat = \"arm.pivot\"\ndirection = [0, 0, 1]\n"
+               "table = [[0.0, 1.0], [0.2, 2.0], [0.1, 3.0]]\n" +
+               kClock);
   EXPECT_NE(msg.find("bad.toml:19"), std::string::npos) << msg;
   EXPECT_NE(msg.find("must increase strictly"), std::string::npos) << msg;
 }
 
 TEST(SolveSceneErrors, JointOnOneBodyAndMissingClock) {
-  EXPECT_NE(error_of(kBase + "[[joint]]\nname = \"j\"\ntype = \"fixed\"\ni = \"arm.pivot\"\nj = \"arm.pivot\"\n" + kClock).find("same body"),
-            std::string::npos);
+  EXPECT_NE(
+      error_of(kBase + "[[joint]]\nname = \"j\"\ntype = \"fixed\"\ni = \"arm.pivot\"\nj = \"arm.pivot\"\n" +
+               kClock)
+          .find("same body"),
+      std::string::npos);
   EXPECT_NE(error_of(kBase).find("[clock]"), std::string::npos);
+}
+
+// The cam joint (docs/valvetrain.md section 2): its profile's keys are read as roller-cam's, each error
+// naming the joint's key.
+TEST(SolveSceneErrors, CamJointNamesItsProfileKeys) {
+  const std::string joint =
+      "[[joint]]\nname = \"cam\"\ntype = \"cam\"\ni = \"arm.pivot\"\nj = \"ground.a\"\n";
+  const std::string no_profile = error_of(kBase + joint + kClock);
+  EXPECT_NE(no_profile.find("bad.toml:14"), std::string::npos) << no_profile;
+  EXPECT_NE(no_profile.find("'joint[1].profile': missing required key"), std::string::npos) << no_profile;
+  const std::string eccentric =
+      "profile = \"eccentric\"\nbase_radius = 0.02\neccentricity = 0.005\nroller_radius = 0.0\n";
+  const std::string bad_roller = error_of(kBase + joint + eccentric + kClock);
+  EXPECT_NE(bad_roller.find("'joint[1].roller_radius'"), std::string::npos) << bad_roller;
 }
 
 TEST(SolveSceneErrors, CliExitsOneAndWritesNothing) {
   const auto scene = testing::temp_path("bad_scene.toml");
   const auto out = testing::temp_path("bad_scene.h5");
-  std::ofstream(scene) << kBase << "[[joint]]\nname = \"j\"\ntype = \"hinge\"\ni = \"arm.pivot\"\nj = \"ground.a\"\n" << kClock;
-  const std::string cmd = std::string(NVH_BINARY_DIR) + "/solve/solve " + scene.string() + " -o " + out.string() + " -q 2>/dev/null";
+  std::ofstream(scene) << kBase
+                       << "[[joint]]\nname = \"j\"\ntype = \"hinge\"\ni = \"arm.pivot\"\nj = \"ground.a\"\n"
+                       << kClock;
+  const std::string cmd = std::string(NVH_BINARY_DIR) + "/solve/solve " + scene.string() + " -o " +
+                          out.string() + " -q 2>/dev/null";
   const int status = std::system(cmd.c_str());
   EXPECT_EQ(WEXITSTATUS(status), 1);
   EXPECT_FALSE(std::filesystem::exists(out));
@@ -114,22 +143,25 @@ type = "spherical"
 i = "arm.end"
 j = "ground.b"
 )" << kClock;
-  const std::string cmd = std::string(NVH_BINARY_DIR) + "/solve/solve " + scene.string() + " -o " + out.string() +
-                          " -q 2>" + log.string();
+  const std::string cmd = std::string(NVH_BINARY_DIR) + "/solve/solve " + scene.string() + " -o " +
+                          out.string() + " -q 2>" + log.string();
   const int status = std::system(cmd.c_str());
   EXPECT_EQ(WEXITSTATUS(status), 1);
   EXPECT_FALSE(std::filesystem::exists(out));
   std::ifstream in(log);
   const std::string err((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  EXPECT_NE(err.find(scene.string() + ": the initial positions cannot be assembled"), std::string::npos) << err;
+  EXPECT_NE(err.find(scene.string() + ": the initial positions cannot be assembled"), std::string::npos)
+      << err;
   EXPECT_NE(err.find("most in spherical '"), std::string::npos) << err;
 }
 
 // The accepted element types come from the registry: an unknown type's error lists every registered [[force]]
 // type, and `solve --help` lists every registered type of every section.
 TEST(SolveSceneErrors, UnknownForceTypeListsTheRegisteredOnes) {
-  const std::string msg = error_of(kBase + "[[force]]\nname = \"f\"\ntype = \"springdamper\"\ni = \"arm.pivot\"\n"
-                                           "j = \"ground.a\"\n" + kClock);
+  const std::string msg = error_of(kBase +
+                                   "[[force]]\nname = \"f\"\ntype = \"springdamper\"\ni = \"arm.pivot\"\n"
+                                   "j = \"ground.a\"\n" +
+                                   kClock);
   EXPECT_NE(msg.find("bad.toml"), std::string::npos) << msg;
   for (const std::string& name : builtin_elements().names("force"))
     EXPECT_NE(msg.find(name), std::string::npos) << "not listed: " << name << "\n" << msg;
