@@ -1,10 +1,10 @@
 # Flexible bodies in solve (included by tests/solve/CMakeLists.txt).
 nvh_add_test(solve_flexible_tests SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_flexible.cpp
   ${CMAKE_CURRENT_LIST_DIR}/test_jacobian_flexible.cpp LIBS nvh_solve nvh_condense)
-# The valvetrain's flexible rocker and lever (testdata/valvetrain/rocker.toml, lever.toml): condensed in the
-# test, then run in the valvetrain scenes against the rigid rocker and the lever chain's closed form.
+# The valvetrain's flexible rocker, lever and pushrod (testdata/valvetrain/rocker.toml, lever.toml, pushrod.toml):
+# condensed in the test, then run in the valvetrain scenes against closed forms.
 nvh_add_test(flexible_rocker_tests SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_flexible_rocker.cpp
-  ${CMAKE_CURRENT_LIST_DIR}/test_flexible_lever.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/test_flexible_lever.cpp ${CMAKE_CURRENT_LIST_DIR}/test_flexible_pushrod.cpp
   LIBS nvh_solve nvh_condense)
 # Centrifugal geometric stiffening of a flexible body against the rotating-beam reference.
 nvh_add_test(geometric_stiffening_tests SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_geometric_stiffening.cpp

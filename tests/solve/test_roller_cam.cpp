@@ -23,6 +23,7 @@
 #include <string>
 
 #include "solve_fixture.hpp"
+#include "valvetrain_statics.hpp"
 
 namespace nvh::solve {
 namespace {
@@ -291,12 +292,9 @@ namespace nvh::solve {
 namespace {
 
 // The valvetrain scene of the study (testdata/valvetrain/valvetrain.toml) at a low speed (325 cam rpm): at
-// the top of the lift the valve stands where the kinematic chain puts it (the paper's eq. 7 with the rocker
-// ratio 58/40 and the lash), less the chain's elastic deflections under the forces the run reports, each by
-// its closed form: the pushrod chain's rate EA/L = 4.3e7 N/m, Palmgren's approach of the roller along the
-// tappet's line, and the elephant foot's Hertz sphere delta = (F / k)^(2/3); and the pushrod's tilt: the
-// rocker's ball end swings 40 mm (1 - cos phi) sideways as the rocker turns by phi = asin(lift / 40 mm),
-// which shortens the 300 mm pushrod's height by 0.3 - sqrt(0.3^2 - that^2).
+// the top of the lift the valve stands where the kinematic chain puts it, less the chain's elastic
+// deflections under the forces the run reports and the pushrod's tilt (valvetrain_statics.hpp; the pushrod
+// chain's rate EA/L = 4.3e7 N/m).
 TEST(Valvetrain, TopOfTheLiftIsTheKinematicLiftLessTheDeflections) {
   const std::string text =
       testing::shipped_scene("valvetrain/valvetrain.toml", {{"rpm = 650 ", "rpm = 325 "}});
@@ -309,19 +307,14 @@ TEST(Valvetrain, TopOfTheLiftIsTheKinematicLiftLessTheDeflections) {
   Eigen::Index top = 0;
   for (Eigen::Index k = 0; k < y.size(); ++k)
     if (a[k] >= 360 && a[k] < 720 && y[k] < y[top]) top = k;
-  const double ratio = 0.058 / 0.040, cam_lift = 0.00966, lash = 0.0005;
-  const double deflection =
-      ratio * (fp[top] / 4.3e7 + 3.84e-5 * std::pow(fc[top], 0.9) / std::pow(15.0, 0.8) * 1e-3) +
-      std::pow(fl[top] / 1.5e10, 2.0 / 3.0);
-  const double phi = std::asin(cam_lift / 0.040), swing = 0.040 * (1 - std::cos(phi));
-  const double tilt = ratio * (0.3 - std::sqrt(0.3 * 0.3 - swing * swing));
-  const double expected = ratio * cam_lift - lash - deflection - tilt, lift = y[0] - y[top];
+  const auto t = valvetrain_statics::top_of_lift(fp[top], fc[top], fl[top], 4.3e7);
+  const double lift = y[0] - y[top];
   std::printf(
       "measured: valve lift at the top %.4f mm, kinematic %.4f mm less deflections %.4f mm and tilt %.4f mm "
       "= %.4f mm (error %.2g um)\n",
-      lift * 1e3, (ratio * cam_lift - lash) * 1e3, deflection * 1e3, tilt * 1e3, expected * 1e3,
-      (lift - expected) * 1e6);
-  EXPECT_NEAR(lift, expected, 1e-6);  // m: the inertia at 325 cam rpm, the seat's and the chain's settling
+      lift * 1e3, t.kinematic * 1e3, t.deflection * 1e3, t.tilt * 1e3, t.expected * 1e3,
+      (lift - t.expected) * 1e6);
+  EXPECT_NEAR(lift, t.expected, 1e-6);  // m: the inertia at 325 cam rpm, the seat's and the chain's settling
 }
 
 }  // namespace
