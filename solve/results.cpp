@@ -90,8 +90,10 @@ ResultsWriter ResultsWriter::create(const std::filesystem::path& path, const Sce
     root.set_attribute("integrator", scene.integrator.method);
     root.set_attribute("layout", layout_signature(scene));
     write_provenance(root, provenance);
+    const h5::Chunking chunking{{}, scene.output.compression};  // gzip level ([output] compression)
     for (const auto& sig : signals_of(scene)) {
-      auto ds = sig.columns == 0 ? root.create_appendable_vector(sig.path) : root.create_appendable(sig.path, sig.columns);
+      auto ds = sig.columns == 0 ? root.create_appendable_vector(sig.path, chunking)
+                                 : root.create_appendable(sig.path, sig.columns, chunking);
       root.set_attribute("unit", sig.unit, sig.path);
     }
     if (!scene.marker_names.empty()) root.set_attribute("axes", "global", "markers");

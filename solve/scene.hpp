@@ -16,6 +16,7 @@ struct OutputSettings {
   std::vector<std::string> markers;  // "body.marker"; empty = every marker of every moving body
   bool bodies = true, forces = true, joints = true;
   int chunk_samples = 2048;  // samples per flush (and per checkpoint)
+  int compression = 1;       // gzip level of the time histories, 0 (none) .. 9 (h5::Group::kTimeHistory's 1)
 };
 
 struct Scene {

@@ -529,6 +529,8 @@ void SceneReader::read_output(const Table& root) {
 
     o.chunk_samples = static_cast<int>(
         t->optional_integer("chunk_samples", Range::closed(1, 1e7)).value_or(o.chunk_samples));
+    o.compression =
+        static_cast<int>(t->optional_integer("compression", Range::closed(0, 9)).value_or(o.compression));
     o.bodies = t->optional_boolean("bodies").value_or(true);
     o.forces = t->optional_boolean("forces").value_or(true);
     o.joints = t->optional_boolean("joints").value_or(true);
