@@ -15,6 +15,7 @@
 #include <cmath>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include <Eigen/Dense>
 
@@ -37,6 +38,23 @@ inline Section rectangle(double h, double b) {
   return {h * b, h * b * b * b / 12, b * h * h * h / 12,
           a * c * c * c * (1.0 / 3 - 0.21 * c / a * (1 - std::pow(c / a, 4) / 12)),
           10 * (1 + nu) / (12 + 11 * nu)};
+}
+
+/// A component's beam sections against those from its comments' dimensions, segment by segment: its numbers
+/// have 7 significant digits (1e-6), its shear factors 4 decimals.
+inline void expect_sections(const condense::Component& c, const std::vector<Section>& expected) {
+  ASSERT_EQ(c.beam.segment_sections.size(), expected.size());
+  for (std::size_t s = 0; s < expected.size(); ++s) {
+    const condense::BeamSection& got = c.beam.segment_sections[s];
+    const Section& e = expected[s];
+    SCOPED_TRACE("segment " + std::to_string(s + 1));
+    EXPECT_NEAR(got.A, e.A, 1e-6 * e.A);
+    EXPECT_NEAR(got.Iy, e.Iy, 1e-6 * e.Iy);
+    EXPECT_NEAR(got.Iz, e.Iz, 1e-6 * e.Iz);
+    EXPECT_NEAR(got.J, e.J, 1e-6 * e.J);
+    ASSERT_TRUE(got.shear_factor.has_value());
+    EXPECT_NEAR(*got.shear_factor, e.kappa, 5e-5);
+  }
 }
 
 struct Compliance {

@@ -26,21 +26,29 @@ inline std::filesystem::path temp_path(const std::string& name) {
   return dir / name;
 }
 
-/// Parse, run, and return the results file path. Files the scene names (tables, superelements) are looked for
-/// in `folder` under testdata/ (a shipped scene's own folder).
-inline std::filesystem::path run_text(const std::string& text, const std::string& name,
-                                      RunSummary* summary = nullptr, const std::string& folder = "scenes") {
-  Scene scene =
-      parse_scene(text, name + ".toml", std::filesystem::path(NVH_SOURCE_DIR) / "testdata" / folder);
+/// Parse the scene `text` as if it were the file `name`.toml in folder `base` (where the files it names -
+/// tables, superelements - are looked for), run it quietly into `output`, and return that path.
+inline std::filesystem::path run_text_at(const std::string& text, const std::string& name,
+                                         const std::filesystem::path& base,
+                                         const std::filesystem::path& output, RunSummary* summary = nullptr) {
+  Scene scene = parse_scene(text, name + ".toml", base);
   std::ostringstream sink;
   const Logger log(sink, "solve", Verbosity::kQuiet);
   RunOptions options;
-  options.output = temp_path(name + ".h5");
+  options.output = output;
   options.progress = Progress::Style::kNone;
   const Provenance p = make_provenance("solve-test", 0, nullptr, {});
   const RunSummary s = run_scene(scene, options, p, log);
   if (summary) *summary = s;
   return options.output;
+}
+
+/// Parse, run, and return the results file path. Files the scene names (tables, superelements) are looked for
+/// in `folder` under testdata/ (a shipped scene's own folder).
+inline std::filesystem::path run_text(const std::string& text, const std::string& name,
+                                      RunSummary* summary = nullptr, const std::string& folder = "scenes") {
+  return run_text_at(text, name, std::filesystem::path(NVH_SOURCE_DIR) / "testdata" / folder,
+                     temp_path(name + ".h5"), summary);
 }
 
 /// A scene shipped in testdata (path relative to testdata/) with edits: each `from` is replaced by `to` at

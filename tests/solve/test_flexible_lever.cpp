@@ -24,15 +24,12 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <sstream>
 #include <string>
 
 #include "beam_statics.hpp"
 #include "common/hdf5.hpp"
 #include "common/provenance.hpp"
 #include "lever_chain.hpp"
-#include "solve/run.hpp"
-#include "solve/scene.hpp"
 #include "solve_fixture.hpp"
 
 namespace nvh::solve {
@@ -69,20 +66,7 @@ std::vector<Section> sections_from_dimensions() {
 }
 
 TEST(FlexibleLever, SectionsAreTheDimensionsOfItsComments) {
-  const condense::Component c = lever_component();
-  const std::vector<Section> expected = sections_from_dimensions();
-  ASSERT_EQ(c.beam.segment_sections.size(), expected.size());
-  for (std::size_t s = 0; s < expected.size(); ++s) {
-    const condense::BeamSection& got = c.beam.segment_sections[s];
-    const Section& e = expected[s];
-    SCOPED_TRACE("segment " + std::to_string(s + 1));
-    EXPECT_NEAR(got.A, e.A, 1e-6 * e.A);  // the file's numbers have 7 significant digits
-    EXPECT_NEAR(got.Iy, e.Iy, 1e-6 * e.Iy);
-    EXPECT_NEAR(got.Iz, e.Iz, 1e-6 * e.Iz);
-    EXPECT_NEAR(got.J, e.J, 1e-6 * e.J);
-    ASSERT_TRUE(got.shear_factor.has_value());
-    EXPECT_NEAR(*got.shear_factor, e.kappa, 5e-5);
-  }
+  beam_statics::expect_sections(lever_component(), sections_from_dimensions());
 }
 
 // The consistent mass of the beam elements carries each segment's rigid-body mass properties exactly.
@@ -146,17 +130,12 @@ TEST(FlexibleLever, TopOfTheLiftIsTheLeverChainsGeometryLessTheDeflectionsAndThe
   const std::string text =
       testing::shipped_scene("valvetrain/valvetrain_lever_flexible.toml",
                              {{"rpm = 650 ", "rpm = 325 "}, {"end_angle_deg = 760", "end_angle_deg = 300"}});
-  Scene scene = parse_scene(text, "valvetrain_lever_flexible.toml", dir);
-  std::ostringstream sink;
-  const Logger log(sink, "solve", Verbosity::kQuiet);
-  RunOptions options;
-  options.output = dir / "valvetrain_lever_flexible.results.h5";
-  options.progress = Progress::Style::kNone;
-  run_scene(scene, options, make_provenance("solve-test", 0, nullptr, {}), log);
+  const auto file = testing::run_text_at(text, "valvetrain_lever_flexible", dir,
+                                         dir / "valvetrain_lever_flexible.results.h5");
 
   const auto cam = scene_cam();
-  const auto y = testing::signal(options.output, "bodies/valve/position", 1);
-  const std::vector<Sample> run = samples(options.output);
+  const auto y = testing::signal(file, "bodies/valve/position", 1);
+  const std::vector<Sample> run = samples(file);
   const double c_rr = cantilever(c, kRoller, kRoller).transverse(),
                c_rc = cantilever(c, kRoller, kCup).transverse(),
                c_cc = cantilever(c, kCup, kCup).transverse();

@@ -102,21 +102,7 @@ condense::Superelement condense_rocker(const condense::Component& c) {
 }
 
 TEST(FlexibleRocker, SectionsAreTheDimensionsOfItsComments) {
-  const condense::Component c = rocker_component();
-  const std::vector<Section> expected = sections_from_dimensions();
-  ASSERT_EQ(c.beam.segment_sections.size(), expected.size());
-  for (std::size_t s = 0; s < expected.size(); ++s) {
-    const condense::BeamSection& got = c.beam.segment_sections[s];
-    const Section& e = expected[s];
-    SCOPED_TRACE("segment " + std::to_string(s + 1));
-    // the file's numbers have 7 significant digits, its shear factors 4 decimals
-    EXPECT_NEAR(got.A, e.A, 1e-6 * e.A);
-    EXPECT_NEAR(got.Iy, e.Iy, 1e-6 * e.Iy);
-    EXPECT_NEAR(got.Iz, e.Iz, 1e-6 * e.Iz);
-    EXPECT_NEAR(got.J, e.J, 1e-6 * e.J);
-    ASSERT_TRUE(got.shear_factor.has_value());
-    EXPECT_NEAR(*got.shear_factor, e.kappa, 5e-5);
-  }
+  beam_statics::expect_sections(rocker_component(), sections_from_dimensions());
 }
 
 // The rigid rocker of valvetrain.toml sits on its centre of mass at the pivot; the flexible one should carry
@@ -178,14 +164,8 @@ fs::path run_slow(const std::string& scene, const fs::path& dir) {
   // The scene's gas table (its load is off: scale 0) is read from beside it.
   fs::copy_file(fs::path(NVH_SOURCE_DIR) / "testdata/valvetrain/exhaust_valve_gas.csv",
                 dir / "exhaust_valve_gas.csv", fs::copy_options::overwrite_existing);
-  Scene s = parse_scene(text, scene, dir);
-  std::ostringstream sink;
-  const Logger log(sink, "solve", Verbosity::kQuiet);
-  RunOptions options;
-  options.output = dir / (fs::path(scene).stem().string() + ".results.h5");
-  options.progress = Progress::Style::kNone;
-  run_scene(s, options, make_provenance("solve-test", 0, nullptr, {}), log);
-  return options.output;
+  const std::string stem = fs::path(scene).stem().string();
+  return testing::run_text_at(text, stem, dir, dir / (stem + ".results.h5"));
 }
 
 struct RunResults {

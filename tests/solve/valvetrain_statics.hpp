@@ -8,6 +8,10 @@
 // mm pushrod's height by 0.3 - sqrt(0.3^2 - that^2). Shared by test_roller_cam.cpp (the 3-mass pushrod) and
 // test_flexible_pushrod.cpp (the beam superelement).
 #include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+#include "solve_fixture.hpp"
 
 namespace nvh::solve::valvetrain_statics {
 
@@ -27,6 +31,28 @@ inline TopOfLift top_of_lift(double pushrod_force, double cam_force, double lash
   t.tilt = ratio * (0.3 - std::sqrt(0.3 * 0.3 - swing * swing));
   t.expected = t.kinematic - t.deflection - t.tilt;
   return t;
+}
+
+/// The valve's lift at the top of the second cam revolution of a results file of valvetrain.toml (or a
+/// variant) less top_of_lift() under the forces reported there (the pushrod's force per sample given),
+/// printed; m.
+inline double top_of_second_lift_error(const std::filesystem::path& file,
+                                       const Eigen::VectorXd& pushrod_force, double pushrod_rate) {
+  using testing::signal;
+  const Eigen::VectorXd y = signal(file, "bodies/valve/position", 1), a = signal(file, "crank_angle_deg");
+  const Eigen::VectorXd fc = signal(file, "forces/cam/normal_force"),
+                        fl = signal(file, "forces/lash/normal_force");
+  Eigen::Index top = 0;
+  for (Eigen::Index k = 0; k < y.size(); ++k)
+    if (a[k] >= 360 && a[k] < 720 && y[k] < y[top]) top = k;
+  const TopOfLift t = top_of_lift(pushrod_force[top], fc[top], fl[top], pushrod_rate);
+  const double lift = y[0] - y[top];
+  std::printf(
+      "measured: valve lift at the top %.4f mm, kinematic %.4f mm less deflections %.4f mm and tilt %.4f mm "
+      "= %.4f mm (error %.2g um)\n",
+      lift * 1e3, t.kinematic * 1e3, t.deflection * 1e3, t.tilt * 1e3, t.expected * 1e3,
+      (lift - t.expected) * 1e6);
+  return lift - t.expected;
 }
 
 }  // namespace nvh::solve::valvetrain_statics
