@@ -1,14 +1,16 @@
 #!/usr/bin/env bash
-# condense against CalculiX (ccx 2.20, one thread) on the same TET10 mesh of the generic engine block
-# (testdata/engine_block.geo), clamped at its 4 mount pads, first 30 modes: wall time and peak memory
-# of both, their ratio, and the largest frequency difference; over several mesh sizes (the last one,
-# 11.5 mm, is the ~250k-DOF case of issue 3). Prints a table; see bench/README.md.
+# condense against CalculiX (ccx 2.20, one thread) on the same TET10 mesh, first 30 modes: wall time and peak
+# memory of both, their ratio, and the largest frequency difference; over several mesh sizes. Two geometries
+# (GEOMETRY): "engine" (default), the generic engine block of testdata/engine_block.geo, cast iron, clamped at
+# its 4 mount pads (the last default size, 11.5 mm, is the ~250k-DOF case of issue 3); "plain", issue 17's
+# second geometry, a plain steel block 400 x 200 x 100 mm fixed on one end face (bench/plain_block.geo; the
+# last default size, 9 mm, gives 237k DOF). Prints a table; see bench/README.md.
 #
-# usage: bench/run_volume_bench.sh [BUILD_DIR] [SIZE_M ...]
+# usage: [GEOMETRY=engine|plain] bench/run_volume_bench.sh [BUILD_DIR] [SIZE_M ...]
 #   BUILD_DIR: CMake build directory with condense and bench_volume_mesh (default: $BUILD_DIR, else
-#   build-vol, else build). Sizes default to 0.020 0.015 0.0115. Environment: WORK_DIR (default: a
-#   temporary directory, removed afterwards), NO_CCX=1 to run condense only, ORDERING (condense
-#   --ordering, default auto).
+#   build-vol, else build). Sizes default to 0.020 0.015 0.0115 (engine), 0.016 0.012 0.009 (plain).
+#   Environment: WORK_DIR (default: a temporary directory, removed afterwards), NO_CCX=1 to run condense
+#   only, ORDERING (condense --ordering, default auto).
 set -euo pipefail
 
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
@@ -24,7 +26,18 @@ else
   build_dir="$root/build"
 fi
 sizes=("$@")
-[[ ${#sizes[@]} -gt 0 ]] || sizes=(0.020 0.015 0.0115)
+geometry="${GEOMETRY:-engine}"
+case "$geometry" in
+  engine)
+    geo="$root/testdata/engine_block.geo"
+    [[ ${#sizes[@]} -gt 0 ]] || sizes=(0.020 0.015 0.0115)
+    material=(cast_iron 110e9 0.26 7200.0) ccx_e="110000000000." fixed=(MOUNT1 MOUNT2 MOUNT3 MOUNT4) ;;
+  plain)
+    geo="$here/plain_block.geo"
+    [[ ${#sizes[@]} -gt 0 ]] || sizes=(0.016 0.012 0.009)
+    material=(steel 210e9 0.3 7850.0) ccx_e="210000000000." fixed=(FIXED) ;;
+  *) echo "run_volume_bench.sh: GEOMETRY must be engine or plain, got '$geometry'" >&2; exit 2 ;;
+esac
 condense="$build_dir/condense/condense"
 mesher="$build_dir/bench/bench_volume_mesh"
 for exe in "$condense" "$mesher"; do
@@ -50,7 +63,7 @@ ccx_frequencies() {
        /P A R T I C I P A T I O N/ {on = 0}' "$1"
 }
 
-echo "host: $(nproc) cores, load average now: $(cut -d' ' -f1-3 /proc/loadavg)"
+echo "geometry: $geometry ($geo); host: $(nproc) cores, load average now: $(cut -d' ' -f1-3 /proc/loadavg)"
 # Times are CPU seconds (user + sys): on a machine shared with other work the wall time measures the
 # load as much as the program; both tools run one thread here. Wall times are in the logs.
 printf "%-8s %8s %8s | %9s %9s | %9s %9s | %7s %7s | %9s\n" "size_m" "nodes" "DOF" "condense_s" "cond_MiB" \
@@ -58,37 +71,28 @@ printf "%-8s %8s %8s | %9s %9s | %9s %9s | %7s %7s | %9s\n" "size_m" "nodes" "DO
 for h in "${sizes[@]}"; do
   dir="$work/h$h"
   mkdir -p "$dir"
-  counts=$("$mesher" "$root/testdata/engine_block.geo" "$h" "$dir/block.inp")
+  counts=$("$mesher" "$geo" "$h" "$dir/block.inp")
   nodes=$(echo "$counts" | awk '{print $1}')
   dofs=$(echo "$counts" | awk '{print $5}')
-  cat > "$dir/block.toml" <<TOML
+  {
+    cat <<TOML
 [component]
-name = "engine_block_clamped"
+name = "${geometry}_block_clamped"
 kind = "volume"
-[material.cast_iron]
-E = 110e9
-nu = 0.26
-rho = 7200.0
+[material.${material[0]}]
+E = ${material[1]}
+nu = ${material[2]}
+rho = ${material[3]}
 [volume]
 mesh = "block.inp"
-material = "cast_iron"
+material = "${material[0]}"
 mass_quadrature = "stiffness"   # as CalculiX integrates the C3D10 mass: same matrices
-[[fix]]
-surface = "MOUNT1"
-dofs = "x y z"
-[[fix]]
-surface = "MOUNT2"
-dofs = "x y z"
-[[fix]]
-surface = "MOUNT3"
-dofs = "x y z"
-[[fix]]
-surface = "MOUNT4"
-dofs = "x y z"
 [reduction]
 method = "modal"
 modes = 30
 TOML
+    for set in "${fixed[@]}"; do printf '[[fix]]\nsurface = "%s"\ndofs = "x y z"\n' "$set"; done
+  } > "$dir/block.toml"
   OMP_NUM_THREADS=1 /usr/bin/time -f "%e %U %S %M" -o "$dir/condense.time" "$condense" "$dir/block.toml" -o "$dir/block.h5" -v \
     --ordering "${ORDERING:-auto}" > "$dir/condense.log" 2>&1
   read -r c_wall c_user c_sys c_kb < "$dir/condense.time"
@@ -102,24 +106,20 @@ TOML
   [[ "$kernels" == OpenBLAS* ]] && coretype="${kernels#OpenBLAS }"
   x_s="-"; x_kb=""; ratio="-"; mratio="-"; df="-"
   if [[ $run_ccx == 1 ]]; then
-    cat > "$dir/job.inp" <<INP
+    {
+      cat <<INP
 *INCLUDE, INPUT=block.inp
-*MATERIAL, NAME=CAST_IRON
+*MATERIAL, NAME=${material[0]^^}
 *ELASTIC
-110000000000., 0.26
+$ccx_e, ${material[2]}
 *DENSITY
-7200.
-*SOLID SECTION, ELSET=BLOCK, MATERIAL=CAST_IRON
+${material[3]}
+*SOLID SECTION, ELSET=BLOCK, MATERIAL=${material[0]^^}
 *BOUNDARY
-MOUNT1, 1, 3
-MOUNT2, 1, 3
-MOUNT3, 1, 3
-MOUNT4, 1, 3
-*STEP
-*FREQUENCY
-30
-*END STEP
 INP
+      for set in "${fixed[@]}"; do echo "$set, 1, 3"; done
+      printf '*STEP\n*FREQUENCY\n30\n*END STEP\n'
+    } > "$dir/job.inp"
     (cd "$dir" && OMP_NUM_THREADS=1 OPENBLAS_CORETYPE="${OPENBLAS_CORETYPE:-$coretype}" \
       /usr/bin/time -f "%e %U %S %M" -o ccx.time ccx -i job > ccx.log 2>&1)
     read -r x_wall x_user x_sys x_kb < "$dir/ccx.time"
