@@ -12,7 +12,8 @@ detail, each run at the given cam speeds (default 975: rated, 1950 rpm engine, n
                  active coils' mass on the valve (the textbook one-mass model); chain of 1, 2, 5 (the scene),
                  10, 20 masses (valve-spring, the valve carrying the chain's end mass at each N)
   pushrod        rigid: a `distance` joint, its mass half in the tappet and half in the rocker; chain of 1,
-                 3 (the scene), 8 masses (mass-chain, the same EA/L and total mass)
+                 3 (the scene), 8 masses (mass-chain, the same EA/L and total mass); the Craig-Bampton beam of
+                 pushrod.toml on two spherical joints (valvetrain_flexible_pushrod.toml: it bends as well)
   rocker         rigid (the scene); flexible: the beam superelement of rocker.toml reduced by Guyan (12
                  coordinates) or by Craig-Bampton to 25 kHz (15; valvetrain_flexible_rocker.toml)
 
@@ -104,6 +105,16 @@ def rocker_flexible(superelement: str):
     return edit
 
 
+def pushrod_beam(superelement: str):
+    """The pushrod as the Craig-Bampton beam of pushrod.toml (valvetrain_flexible_pushrod.toml's scene: the tube on
+    two spherical joints, the tappet and the rocker without their eighth of it)."""
+    def edit(_: str) -> str:
+        text = (TESTDATA / "valvetrain_flexible_pushrod.toml").read_text()
+        text = replace(text, 'file = "exhaust_valve_gas.csv"', f'file = "{TESTDATA / "exhaust_valve_gas.csv"}"')
+        return replace(text, 'superelement = "pushrod.h5"', f'superelement = "{superelement}"')
+    return edit
+
+
 def chain(*edits):
     def edit(text: str) -> str:
         for e in edits:
@@ -126,6 +137,7 @@ VARIANTS = [
     ("pushrod rigid", "pushrod", pushrod_rigid),
     ("pushrod 1 mass", "pushrod", lambda t: pushrod_chain(t, 1)),
     ("pushrod 8 masses", "pushrod", lambda t: pushrod_chain(t, 8)),
+    ("pushrod beam, CB 15 kHz (bends)", "pushrod", pushrod_beam("pushrod_cb.h5")),
     ("rocker flexible, Guyan", "rocker", rocker_flexible("rocker_guyan.h5")),
     ("rocker flexible, CB 25 kHz", "rocker", rocker_flexible("rocker_cb.h5")),
     ("simplest: spring linear, pushrod rigid, rocker rigid", "simplest", chain(spring_linear, pushrod_rigid)),
@@ -133,11 +145,13 @@ VARIANTS = [
 
 
 def condense_rockers(build: Path, out: Path) -> None:
-    """The rocker's two superelements beside the scenes: Craig-Bampton to 25 kHz (rocker.toml) and Guyan."""
+    """The superelements beside the scenes: the rocker's Craig-Bampton to 25 kHz (rocker.toml) and Guyan, the
+    pushrod's Craig-Bampton to 15 kHz (pushrod.toml)."""
     condense = build / "condense/condense"
     text = (TESTDATA / "rocker.toml").read_text()
     guyan = replace(text, 'method = "craig-bampton"', 'method = "guyan"')
-    for name, component in (("rocker_cb", text), ("rocker_guyan", guyan)):
+    pushrod = (TESTDATA / "pushrod.toml").read_text()
+    for name, component in (("rocker_cb", text), ("rocker_guyan", guyan), ("pushrod_cb", pushrod)):
         (out / f"{name}.toml").write_text(component)
         subprocess.run([str(condense), str(out / f"{name}.toml"), "-o", str(out / f"{name}.h5"), "-q"],
                        check=True)
