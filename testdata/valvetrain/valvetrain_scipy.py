@@ -1,9 +1,9 @@
 #!/usr/bin/python3
-"""An independent peer model of testdata/valvetrain/valvetrain.toml at speed, in Python/SciPy.
+"""An independent peer model of testdata/valvetrain/valvetrain.toml (and valvetrain_lever.toml) at speed, in SciPy.
 
-Written from the documentation (docs/valvetrain.md sections 1-6, docs/scene-format.md sections 3, 4, 6, 7) and
-the scene file, not from solve's C++ source, so that a test can check solve's whole-scene result against a
-second implementation. Reduced (minimal) coordinates in the plane x-y (the scene is planar):
+Written from the documentation (docs/valvetrain.md sections 1-6 and 10, docs/scene-format.md sections 1, 3, 4,
+6, 7) and the scene files, not from solve's C++ source, so that a test can check solve's whole-scene result
+against a second implementation. Reduced (minimal) coordinates in the plane x-y (the scene is planar):
 
   state  y_t, y_t'   tappet's reference point (= roller centre) along the bore (+y), x = 0
          phi, phi'   rocker angle about +z through its pivot (0 as drawn; phi < 0 opens the valve)
@@ -46,6 +46,43 @@ Element laws, as implemented (doc source in brackets):
   gravity      [0, -9.81, 0] on tappet and valve (the chains' masses carry no weight, s.3).
   gas load     scale 0 in the scene: left out.
 
+THE LEVER SCENE (--scene lever: testdata/valvetrain/valvetrain_lever.toml, valvetrain.md s.10): the tappet is
+replaced by a rigid lever (body `follower`) on a revolute joint at ground.follower_pivot (-0.060, 0.0675);
+everything from the pushrod up (pushrod chain, rocker and its return spring, lash, valve, seat, valve spring,
+gravity, the gas load off) is the tappet scene's, term for term. What differs:
+  state        beta, beta' (in place of y_t, y_t'): the lever's angle about +z through its pivot, 0 as drawn
+               (the scene's orientation is the identity; solve's bodies/follower/euler_parameters: 2 atan2(e3, e0)).
+  geometry     [scene-format.md s.1: "A rigid body's reference point is its centre of mass", marker `at` "body
+               axes, from the reference point"]: the centre of mass at (-0.020, 0.0675), markers pivot (-0.040, 0),
+               roller (0.010, 0), cup (0.020, 0): from the pivot along the lever at beta, the centre of mass at
+               r_cm = 0.040, the roller's centre at r_r = 0.050, the cup at r_c = 0.060 (L_rp, L_pp of s.10's
+               table). Roller centre p_r = pivot + r_r [cos beta, sin beta], v_r = beta' r_r [-sin beta, cos beta];
+               the cup likewise with r_c.
+  inertia      [scene-format.md s.1: `inertia` "about the centre of mass"]: Izz = 2.1e-4 (the scene's value)
+               about the centre of mass, about the pivot by parallel axes I_p = 2.1e-4 + 0.391 * 0.040^2 =
+               8.356e-4 kg m^2 (see AMBIGUITIES). mass 0.391 kg.
+  roller-cam   [valvetrain.md s.2 "Geometry", "Force"; s.2 "The contact point is found on the profile at every
+               evaluation ... a pivoting roller lever"; s.10 "needs nothing of its own"]: the tappet's law with
+               the lever's cam: lift 0.00805 m, ramp_height 0.000333 m (V = 2H/ramp), the rest as the tappet's
+               (Rb 25 mm, Rr 12.5 mm, rise 52, ramp 22, nose 180 deg, width 15 mm, e 0.6); the camshaft's axis
+               (its marker `lobe`, identity orientation) at (-0.010, 0.030). c = R(-theta)(p_r - p_axis), the foot
+               by the same Newton from atan2(c_y, c_x) (now off the cam's y axis as beta grows: x of the roller
+               = -0.060 + 0.050 cos beta); delta' = -n.(v_r - omega z x (p_r - p_axis)). As drawn the roller's
+               centre is 37.5 mm = Rb + Rr straight above the axis (gap 0 on the base circle), so the event is
+               the tappet's: s(theta - 90 deg) to first order, nose at 270 cam deg.
+  lever's EOM  I_p beta'' = z.(r_roller x fn n) + z.(r_cup x F_j) - m g r_cm cos beta, the cam's fn n at the
+               roller's centre [valvetrain.md s.2 "fn n acts on the follower at the roller's centre ... the
+               follower gets no torque from the contact": about the pivot it is r x F], the pushrod's
+               F_j = -f_0 e at the cup [scene-format.md s.4 mass-chain row], the weight at the centre of mass
+               [scene gravity (0, -9.81, 0)]; the pivot's reaction does no work (reduced coordinates).
+  pushrod      [scene-format.md s.4 mass-chain row]: as for the tappet, but the line runs from the lever's
+               moving cup (j) to the rocker's moving ball (i): e = (p_ball - p_cup)/L turns with both ends;
+               x_k' = v_k - e.v_cup, v_k absolute along the line, m v_k' = f_{k-1} - f_k, the last segment's rate
+               L' = e.(v_ball - v_cup); inertia along the line only (no e' terms). free_length = the initial
+               distance: the cup as drawn is where the tappet's was, (0, 0.0675), so 0.3 m as before.
+  initial      as drawn (the drawing satisfies the revolute joint and the cam's gap is 0): beta = 0, beta' = 0, the
+               rest as the tappet scene's (below).
+
 Initial state (scene-format.md s.1 "Initial positions ... assembles them ... projects the velocities", s.3,
 valvetrain.md s.3): the drawing already satisfies the joints, so positions are as drawn: y_t = 0.0375
 (roller on the base circle, gap 0), phi = 0, y_v = 0.2675 (face on the seat, gap 0, lash open 0.5 mm); all
@@ -59,6 +96,11 @@ Integration: scipy.integrate.solve_ivp, LSODA (default) or Radau, rtol 1e-9 by d
 Converged: rtol 1e-10 against 1e-9 (LSODA) differs by <= 1.3e-5 of each channel's range over the first
 revolution (the largest in the seat force during the bounces), Radau 1e-9 and DOP853 1e-10 against LSODA 1e-10
 by <= 3.5e-6; the located seating speed agrees to 1e-8 m/s.
+The lever (975 and 325 cam rpm; the lever's angle's atol is atol / r_c): LSODA rtol 1e-10 against 1e-9 differs
+by <= 2.5e-5 (975) and 4.3e-5 (325) of each channel's range over the first revolution, the seat force in the
+bounces; over the event (190-320 deg) by <= 1.3e-6. Radau 1e-9 against LSODA 1e-10 by <= 1.3e-5 (975), 2.5e-5
+(325), over the event <= 1.8e-6; DOP853 1e-10 against LSODA 1e-10 by <= 6.6e-5 (the cam force), over the event
+<= 1.9e-5. The located first seating speed agrees to 1e-6 m/s between all of them.
 
 AMBIGUITIES (where the docs left a point open; resolved from solve's source, read for these points only):
   - `reference_speed` of `contact` (the lash) and of `valve-seat` (the seat): the scene sets neither, and
@@ -69,18 +111,23 @@ AMBIGUITIES (where the docs left a point open; resolved from solve's source, rea
   - E*_steel in Palmgren's constant C: valvetrain.md s.2 says "113.7 GPa (207 GPa and 0.3 on both sides)";
     solve/elements/hertz_line.hpp computes it exactly, 207e9 / (2 (1 - 0.09)) = 113.736 GPa (as here; for steel
     on steel it cancels in any case).
+  - The lever's inertia (lever scene): valvetrain.md s.10 and the scene's comment give "8.4e-4 kg m^2 about the
+    pivot" and derive Izz = 8.4e-4 - 0.391 * 0.040^2 = 2.144e-4 about the centre of mass, but the scene writes
+    inertia[2] = 2.1e-4: about the pivot that is 8.356e-4 (0.5 % less than the text). The peer uses the scene's
+    value (what solve reads); with 8.4e-4 instead the tight comparison at 975 rpm moves by 1.1e-3 of the cam
+    force's range (from 7e-6), so the choice is visible in the test.
   Not ambiguous but easy to misread: the mass-chain "starts at the static equilibrium" of the chain alone, at the
   initial distance; with the default free_length (= the initial distance) the pushrod starts unloaded, so the
   scene's "6 N m at the start: 150 N on the pushrod" holds after the start transient, not at t = 0. The tappet on
   the cam's +y axis sees s(theta - 90 deg) (section 1's convention is a follower on +x): nose at 270 cam deg,
   event 196..344 cam deg.
 
-Usage:  valvetrain_scipy.py --rpm 975 --out FILE.csv [--rtol 1e-9] [--method LSODA] [--end-deg 360]
-                            [--step-deg 0.25]
+Usage:  valvetrain_scipy.py --rpm 975 --out FILE.csv [--scene tappet|lever] [--rtol 1e-9] [--method LSODA]
+                            [--end-deg 360] [--step-deg 0.25]
 Columns of the CSV (one row per cam angle on a uniform grid from 0):
   cam_deg, valve_lift_m (0.2675 - y_v: the KPI report's definition), valve_velocity_mps (y_v', + up),
-  cam_force_N, rocker_angle_rad, tappet_lift_m (y_t - 0.0375), pushrod_force_i_N, pushrod_force_j_N,
-  lash_force_N, seat_axial_force_N, spring_force_i_N
+  cam_force_N, rocker_angle_rad, tappet_lift_m (y_t - 0.0375; the lever: lever_angle_rad, beta),
+  pushrod_force_i_N, pushrod_force_j_N, lash_force_N, seat_axial_force_N, spring_force_i_N
 The header comment gives the command, the tolerances, scipy's version and the located seating events.
 """
 import argparse
@@ -95,14 +142,20 @@ from scipy.integrate import solve_ivp
 # ---------------------------------------------------------------------------------------------------------------
 # Scene data (testdata/valvetrain/valvetrain.toml)
 G_ACC = 9.81
-# camshaft / cam profile
+# camshaft / cam profile (the lift and the ramp's height per scene: TAPPET_CAM, LEVER_CAM below)
 RB, RR = 0.025, 0.0125
-LIFT, RISE, RAMP, H_RAMP = 0.00966, math.radians(52.0), math.radians(22.0), 0.0004
+RISE, RAMP = math.radians(52.0), math.radians(22.0)
 NOSE = math.radians(180.0)
-V_RAMP = 2.0 * H_RAMP / RAMP  # m/rad, the default ramp velocity
 CAM_WIDTH, CAM_E = 0.015, 0.6
-# tappet
+# tappet (valvetrain.toml; the camshaft's axis at the origin)
 M_T, YT0, CUP = 0.38, 0.0375, 0.030
+# lever (valvetrain_lever.toml): global positions as drawn (beta = 0); the scene's marker `at`s are from the
+# centre of mass (-0.020, 0.0675): pivot -0.040, roller +0.010, cup +0.020 along x
+LV_PX, LV_PY = -0.060, 0.0675                    # ground.follower_pivot (= follower.pivot as drawn)
+LV_CAM_X, LV_CAM_Y = -0.010, 0.030               # ground.cam_axis (the camshaft's position, its lobe marker)
+LV_M, LV_ICM = 0.391, 2.1e-4                     # kg; Izz about the centre of mass (the scene's inertia[2])
+LV_RCM, LV_RROL, LV_RCUP = 0.040, 0.050, 0.060   # m from the pivot along the lever: centre of mass, roller, cup
+LV_IP = LV_ICM + LV_M * LV_RCM ** 2              # about the pivot (parallel axes): 8.356e-4 kg m^2
 # rocker
 PIV_X, PIV_Y, ARM_B, ARM_F, I_R = 0.040, 0.3675, 0.040, 0.058, 6.5e-4
 K_RET, D_RET, PHI0 = 10.0, 0.05, math.radians(34.38)
@@ -139,6 +192,8 @@ COSB = math.cos(SEAT_BETA)
 
 # pushrod: free length = the initial distance between the ball (0, 0.3675) and the cup (0, 0.0675)
 PR_L0 = PIV_Y - (YT0 + CUP)
+# the lever's cup as drawn is where the tappet's is (0, 0.0675): the same free length
+assert math.hypot(PIV_X - ARM_B - (LV_PX + LV_RCUP), PIV_Y - LV_PY) == PR_L0
 PR_KS = (PR_N + 1) * PR_K
 PR_MK = PR_M / PR_N
 PR_SEG0 = PR_L0 / (PR_N + 1)
@@ -171,8 +226,17 @@ def _quintic(p0, v0, a0, p1, v1, a1):
     return (p0, v0, a0 / 2, c3, c4, c5)
 
 
-_RAMP_Q = _quintic(0.0, 0.0, 0.0, H_RAMP, V_RAMP * RAMP, 0.0)
-_RISE_Q = _quintic(H_RAMP, V_RAMP * RISE, 0.0, LIFT, 0.0, 0.0)
+class Cam:
+    """One scene's polynomial event: its lift L and ramp height H (rise, ramp, nose and radii are common)."""
+
+    def __init__(self, lift_m, ramp_height):
+        v_ramp = 2.0 * ramp_height / RAMP  # m/rad, the default ramp velocity
+        self.ramp_q = _quintic(0.0, 0.0, 0.0, ramp_height, v_ramp * RAMP, 0.0)
+        self.rise_q = _quintic(ramp_height, v_ramp * RISE, 0.0, lift_m, 0.0, 0.0)
+
+
+TAPPET_CAM = Cam(0.00966, 0.0004)   # valvetrain.toml, m at the tappet
+LEVER_CAM = Cam(0.00805, 0.000333)  # valvetrain_lever.toml, m at the roller
 
 
 def _qeval(c, x):
@@ -183,24 +247,24 @@ def _qeval(c, x):
     return g, g1, g2, g3
 
 
-def lift(u):
+def lift(u, cam):
     """s, s', s'', s''' (m, m/rad^k) of the polynomial event at the profile angle u (rad)."""
     d = math.remainder(u - NOSE, 2.0 * math.pi)  # in [-pi, pi]
     a = abs(d)
     if a >= RISE + RAMP:
         return 0.0, 0.0, 0.0, 0.0
     if a >= RISE:
-        w, x, c = RAMP, (RISE + RAMP - a) / RAMP, _RAMP_Q
+        w, x, c = RAMP, (RISE + RAMP - a) / RAMP, cam.ramp_q
     else:
-        w, x, c = RISE, (RISE - a) / RISE, _RISE_Q
+        w, x, c = RISE, (RISE - a) / RISE, cam.rise_q
     g, g1, g2, g3 = _qeval(c, x)
     sg = 1.0 if d < 0 else -1.0  # opening side: x grows with u; closing side: the mirror image
     return g, sg * g1 / w, g2 / (w * w), sg * g3 / (w * w * w)
 
 
-def pitch(psi):
+def pitch(psi, cam):
     """P, P', P'' of the pitch curve at psi (cam frame)."""
-    s, s1, s2, _ = lift(-psi)
+    s, s1, s2, _ = lift(-psi, cam)
     rho, r1, r2 = RB + RR + s, -s1, s2
     c, sn = math.cos(psi), math.sin(psi)
     px, py = rho * c, rho * sn
@@ -209,14 +273,14 @@ def pitch(psi):
     return px, py, p1x, p1y, p2x, p2y
 
 
-def cam_contact(theta, y_t):
-    """Gap g and the outward unit normal (global axes) of the roller centre (0, y_t) on the cam at angle theta;
-    also the profile angle of the contact point."""
+def cam_contact(theta, x_g, y_g, cam):
+    """Gap g and the outward unit normal (global axes) of the roller centre (x_g, y_g) (global axes, from the
+    cam's axis) on the cam at angle theta; also the profile angle of the contact point."""
     ct, st = math.cos(theta), math.sin(theta)
-    cx, cy = st * y_t, ct * y_t  # R(-theta) [0, y_t]
+    cx, cy = ct * x_g + st * y_g, ct * y_g - st * x_g  # R(-theta) [x_g, y_g]
     psi = math.atan2(cy, cx)
     for _ in range(50):
-        px, py, p1x, p1y, p2x, p2y = pitch(psi)
+        px, py, p1x, p1y, p2x, p2y = pitch(psi, cam)
         dx, dy = px - cx, py - cy
         f = dx * p1x + dy * p1y
         fp = p1x * p1x + p1y * p1y + dx * p2x + dy * p2y
@@ -225,7 +289,7 @@ def cam_contact(theta, y_t):
         psi += step
         if abs(step) < 1e-15:
             break
-    px, py, p1x, p1y, _, _ = pitch(psi)
+    px, py, p1x, p1y, _, _ = pitch(psi, cam)
     nrm = math.hypot(p1x, p1y)
     nx, ny = p1y / nrm, -p1x / nrm
     g = nx * (cx - px) + ny * (cy - py)
@@ -234,8 +298,9 @@ def cam_contact(theta, y_t):
 
 
 # ---------------------------------------------------------------------------------------------------------------
-# State layout
+# State layout (the follower's coordinate: the tappet's y_t, or the lever's angle beta)
 I_YT, I_VT, I_PHI, I_W, I_YV, I_VV = range(6)
+I_BETA, I_WB = I_YT, I_VT
 I_PX = 6
 I_PV = I_PX + PR_N
 I_SX = I_PV + PR_N
@@ -243,9 +308,9 @@ I_SV = I_SX + VS_N
 NSTATE = I_SV + VS_N
 
 
-def initial_state():
+def initial_state(lever=False):
     y = np.zeros(NSTATE)
-    y[I_YT], y[I_PHI], y[I_YV] = YT0, 0.0, YV0
+    y[I_YT], y[I_PHI], y[I_YV] = (0.0 if lever else YT0), 0.0, YV0
     for k in range(1, PR_N + 1):
         y[I_PX + k - 1] = k * PR_L0 / (PR_N + 1)
     l_vs = YV0 + RET - SPRING_SEAT_Y
@@ -269,30 +334,44 @@ def chain_forces(xs, vs, L, Ld, uj, h, n, seg0, ks, cs, solid, kc):
     return f
 
 
-def evaluate(t, y, omega):
-    """The derivative and every output quantity at (t, y)."""
+def evaluate(t, y, omega, lever=False):
+    """The derivative and every output quantity at (t, y); `lever`: valvetrain_lever.toml's follower."""
     theta = omega * t
     yt, vt, phi, w, yv, vv = y[I_YT], y[I_VT], y[I_PHI], y[I_W], y[I_YV], y[I_VV]
     cphi, sphi = math.cos(phi), math.sin(phi)
     out = {}
-    # --- roller on cam
-    g, nx, ny, psi = cam_contact(theta, yt)
+    # --- roller on cam: the roller's centre (rx, ry) from the cam's axis and its velocity (vrx, vry)
+    if lever:
+        beta, wb = yt, vt
+        cb, sb = math.cos(beta), math.sin(beta)
+        rx, ry = LV_PX + LV_RROL * cb - LV_CAM_X, LV_PY + LV_RROL * sb - LV_CAM_Y
+        vrx, vry = -LV_RROL * sb * wb, LV_RROL * cb * wb
+        g, nx, ny, psi = cam_contact(theta, rx, ry, LEVER_CAM)
+    else:
+        rx, ry, vrx, vry = 0.0, yt, 0.0, vt
+        g, nx, ny, psi = cam_contact(theta, rx, ry, TAPPET_CAM)
     delta = -g
     fcam = 0.0
     if delta > 0.0:
-        # v_i - omega x p_i, p_i = (0, yt): (omega yt, vt)
-        ddelta = -(nx * omega * yt + ny * vt)
+        if lever:  # v_i - omega x (p_i - p_j), omega x r = omega (-r_y, r_x): (vrx + omega ry, vry - omega rx)
+            ddelta = -(nx * (vrx + omega * ry) + ny * (vry - omega * rx))
+        else:  # the same at (rx, ry) = (0, yt), written as first (the tappet's CSVs to the last bit)
+            ddelta = -(nx * omega * yt + ny * vt)
         fcam = max(0.0, palmgren(delta, CAM_WIDTH) * (1.0 + ALPHA_CAM * ddelta))
     out["cam_force"], out["cam_gap"] = fcam, g
-    # --- pushrod chain between rocker.ball (i) and tappet.cup (j)
+    # --- pushrod chain between rocker.ball (i) and the follower's cup (j): cup (cux, cuy), its velocity (cvx, cvy)
     bx, by = PIV_X - ARM_B * cphi, PIV_Y - ARM_B * sphi
     bvx, bvy = ARM_B * sphi * w, -ARM_B * cphi * w
-    cux, cuy = 0.0, yt + CUP
+    if lever:
+        cux, cuy = LV_PX + LV_RCUP * cb, LV_PY + LV_RCUP * sb
+        cvx, cvy = -LV_RCUP * sb * wb, LV_RCUP * cb * wb
+    else:
+        cux, cuy, cvx, cvy = 0.0, yt + CUP, 0.0, vt
     dx, dy = bx - cux, by - cuy
     L = math.hypot(dx, dy)
     ex, ey = dx / L, dy / L
-    uj = ey * vt
-    Ld = ex * bvx + ey * (bvy - vt)
+    uj = ex * cvx + ey * cvy  # e . v_j
+    Ld = ex * (bvx - cvx) + ey * (bvy - cvy)
     pxs = y[I_PX:I_PX + PR_N]
     pvs = y[I_PV:I_PV + PR_N]
     fp = chain_forces(pxs, pvs, L, Ld, uj, 0.0, PR_N, PR_SEG0, PR_KS, PR_CS, 0.0, 0.0)
@@ -324,7 +403,15 @@ def evaluate(t, y, omega):
     # --- equations of motion
     dy = np.empty(NSTATE)
     dy[I_YT] = vt
-    dy[I_VT] = (fcam * ny - fp[0] * ey) / M_T - G_ACC
+    if lever:
+        # about the pivot: the cam's fn n at the roller's centre, F_j = -f_0 e at the cup, the weight at the centre
+        # of mass (all r from the pivot along the lever at beta)
+        t_cam = LV_RROL * (cb * fcam * ny - sb * fcam * nx)
+        t_rod = LV_RCUP * (cb * (-fp[0] * ey) - sb * (-fp[0] * ex))
+        t_grav = -LV_RCM * cb * LV_M * G_ACC
+        dy[I_VT] = (t_cam + t_rod + t_grav) / LV_IP
+    else:
+        dy[I_VT] = (fcam * ny - fp[0] * ey) / M_T - G_ACC
     # rocker: ball force F_i = f_N e at r_b = (-ARM_B cphi, -ARM_B sphi); foot force (0, flash) at r_f
     rbx, rby = -ARM_B * cphi, -ARM_B * sphi
     fix, fiy = fp[-1] * ex, fp[-1] * ey
@@ -339,13 +426,18 @@ def evaluate(t, y, omega):
     for k in range(VS_N):
         dy[I_SX + k] = svs[k]
         dy[I_SV + k] = (fs[k] - fs[k + 1]) / VS_MK
-    out["rocker_angle"], out["tappet_lift"] = phi, yt - YT0
+    out["rocker_angle"] = phi
+    if lever:
+        out["lever_angle"] = yt
+    else:
+        out["tappet_lift"] = yt - YT0
     out["valve_lift"], out["valve_velocity"], out["valve_acc"] = YV0 - yv, vv, dy[I_VV]
     return dy, out
 
 
-def atol_vector(atol):
-    """Absolute tolerances per state: positions atol, velocities atol * 1e3 (m/s vs m over ~1 ms)."""
+def atol_vector(atol, lever=False):
+    """Absolute tolerances per state: positions atol, velocities atol * 1e3 (m/s vs m over ~1 ms); angles over
+    their arm (the rocker's foot, the lever's cup)."""
     a = np.full(NSTATE, atol)
     for i in (I_VT, I_W, I_VV):
         a[i] = atol * 1e3
@@ -353,14 +445,17 @@ def atol_vector(atol):
     a[I_SV:I_SV + VS_N] = atol * 1e3
     a[I_W] = atol * 1e3 / ARM_F  # rad/s
     a[I_PHI] = atol / ARM_F
+    if lever:
+        a[I_WB] = atol * 1e3 / LV_RCUP
+        a[I_BETA] = atol / LV_RCUP
     return a
 
 
-def simulate(rpm, end_deg=360.0, rtol=1e-9, atol=1e-12, method="LSODA", max_step_deg=None):
+def simulate(rpm, end_deg=360.0, rtol=1e-9, atol=1e-12, method="LSODA", max_step_deg=None, lever=False):
     """Integrate from cam angle 0 to end_deg; returns the solve_ivp solution and omega."""
     omega = rpm * 2.0 * math.pi / 60.0
     t_end = math.radians(end_deg) / omega
-    y0 = initial_state()
+    y0 = initial_state(lever)
     kw = {}
     if max_step_deg:
         kw["max_step"] = math.radians(max_step_deg) / omega
@@ -369,21 +464,22 @@ def simulate(rpm, end_deg=360.0, rtol=1e-9, atol=1e-12, method="LSODA", max_step
         return -((y[I_YV] + FACE) - SEAT_Y)
     seat_event.direction = -1.0
 
-    sol = solve_ivp(lambda t, y: evaluate(t, y, omega)[0], (0.0, t_end), y0, method=method, rtol=rtol,
-                    atol=atol_vector(atol), dense_output=True, events=[seat_event], **kw)
+    sol = solve_ivp(lambda t, y: evaluate(t, y, omega, lever)[0], (0.0, t_end), y0, method=method, rtol=rtol,
+                    atol=atol_vector(atol, lever), dense_output=True, events=[seat_event], **kw)
     if not sol.success:
         raise RuntimeError(sol.message)
     return sol, omega
 
 
-def outputs(sol, omega, t):
-    keys = ["valve_lift", "valve_velocity", "cam_force", "rocker_angle", "tappet_lift", "pushrod_force_i",
+def outputs(sol, omega, t, lever=False):
+    keys = ["valve_lift", "valve_velocity", "cam_force", "rocker_angle", "lever_angle" if lever else "tappet_lift",
+            "pushrod_force_i",
             "pushrod_force_j", "lash_force", "seat_force", "spring_force_i", "cam_gap", "seat_gap", "lash_gap",
             "valve_acc"]
     ys = sol.sol(t)
     res = {k: np.empty(len(t)) for k in keys}
     for n in range(len(t)):
-        _, o = evaluate(t[n], ys[:, n], omega)
+        _, o = evaluate(t[n], ys[:, n], omega, lever)
         for k in keys:
             res[k][n] = o[k]
     res["cam_deg"] = np.degrees(omega * t)
@@ -405,16 +501,20 @@ def main(argv=None):
     ap.add_argument("--method", default="LSODA", choices=["LSODA", "Radau", "BDF", "DOP853"])
     ap.add_argument("--end-deg", type=float, default=360.0)
     ap.add_argument("--step-deg", type=float, default=0.25)
+    ap.add_argument("--scene", default="tappet", choices=["tappet", "lever"],
+                    help="valvetrain.toml (tappet) or valvetrain_lever.toml (lever)")
     a = ap.parse_args(argv)
+    lever = a.scene == "lever"
     t0 = time.process_time()
-    sol, omega = simulate(a.rpm, a.end_deg, a.rtol, a.atol, a.method)
+    sol, omega = simulate(a.rpm, a.end_deg, a.rtol, a.atol, a.method, lever=lever)
     cpu = time.process_time() - t0
     n = int(round(a.end_deg / a.step_deg))
     t = np.radians(np.arange(n + 1) * a.step_deg) / omega
-    r = outputs(sol, omega, t)
+    r = outputs(sol, omega, t, lever)
     cols = [("cam_deg", "cam_deg", "%.4f"), ("valve_lift_m", "valve_lift", "%.9e"),
             ("valve_velocity_mps", "valve_velocity", "%.6e"), ("cam_force_N", "cam_force", "%.6f"),
-            ("rocker_angle_rad", "rocker_angle", "%.9e"), ("tappet_lift_m", "tappet_lift", "%.9e"),
+            ("rocker_angle_rad", "rocker_angle", "%.9e"),
+            ("lever_angle_rad", "lever_angle", "%.9e") if lever else ("tappet_lift_m", "tappet_lift", "%.9e"),
             ("pushrod_force_i_N", "pushrod_force_i", "%.6f"), ("pushrod_force_j_N", "pushrod_force_j", "%.6f"),
             ("lash_force_N", "lash_force", "%.6f"), ("seat_axial_force_N", "seat_force", "%.6f"),
             ("spring_force_i_N", "spring_force_i", "%.6f")]
