@@ -69,6 +69,21 @@ inline Vec4 euler_parameters(const Mat3& a) {
   return p;
 }
 
+/// The rotation nearest a body's axes in the Gram-Schmidt sense (x kept in direction, y made perpendicular to
+/// it, z = x cross y). A rigid body's axes come from Euler parameters whose norm drifts by round-off (held
+/// near 1 by a stabilizing term, body.hpp), so A(p) is not exactly a rotation; an equation that measures a
+/// length in those axes (a cam's pitch curve at the lobe's radius) follows the drift unless it uses these.
+/// Only for such a constraint: a force element stays in the raw axes its markers' positions use (tried on
+/// roller-cam: 3-4 % fewer steps, but the forces of three closed-form tests lost an order of accuracy, 1e-3
+/// where they had 1e-4).
+inline Mat3 orthonormalized(const Mat3& axes) {
+  Mat3 a = axes;
+  a.col(0).normalize();
+  a.col(1) = (a.col(1) - a.col(1).dot(a.col(0)) * a.col(0)).normalized();
+  a.col(2) = a.col(0).cross(a.col(1));
+  return a;
+}
+
 /// An orthonormal frame (columns x, y, z) with the given z axis and x as close as possible to `x_hint`.
 inline Mat3 frame_from_z(const Vec3& z_axis, const Vec3& x_hint) {
   const Vec3 z = z_axis.normalized();
