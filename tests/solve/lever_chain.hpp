@@ -128,11 +128,11 @@ inline std::vector<Sample> samples(const std::filesystem::path& file) {
   using testing::signal;
   const auto angle = signal(file, "crank_angle_deg");
   const auto fc = signal(file, "forces/cam/normal_force"), fl = signal(file, "forces/lash/normal_force");
-  const auto fx = signal(file, "forces/cam/force", 0), fy = signal(file, "forces/cam/force", 1);
+  const Eigen::MatrixXd f = testing::matrix(file, "forces/cam/force");  // (n, 3), on the roller
   const auto fi = signal(file, "forces/pushrod/force_i"), fj = signal(file, "forces/pushrod/force_j");
   std::vector<Sample> out(static_cast<std::size_t>(angle.size()));
   for (Eigen::Index k = 0; k < angle.size(); ++k)
-    out[static_cast<std::size_t>(k)] = {angle[k] * kPi / 180, fc[k], fx[k], fy[k], fi[k], fj[k], fl[k]};
+    out[static_cast<std::size_t>(k)] = {angle[k] * kPi / 180, fc[k], f(k, 0), f(k, 1), fi[k], fj[k], fl[k]};
   return out;
 }
 
