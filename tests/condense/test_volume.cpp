@@ -12,6 +12,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "calculix_reference.hpp"
 #include "common/log.hpp"
 #include "common/superelement.hpp"
 #include "condense/component_reader.hpp"
@@ -29,31 +30,6 @@ namespace nvh::condense {
 namespace {
 
 const Logger kQuiet{std::cerr, "test", Verbosity::kQuiet};
-
-/// Frequencies (Hz) from ccx's job.dat: the rows under "E I G E N V A L U E   O U T P U T" are
-/// "mode  eigenvalue  omega[rad/s]  f[Hz]  imaginary".
-std::vector<double> ccx_frequencies(const fs::path& dat) {
-  std::ifstream in(dat);
-  std::string line;
-  bool table = false;
-  std::vector<double> f;
-  while (std::getline(in, line)) {
-    if (line.find("E I G E N V A L U E   O U T P U T") != std::string::npos) {
-      table = true;
-      continue;
-    }
-    if (!table) continue;
-    std::istringstream row(line);
-    int mode = 0;
-    double eigenvalue = 0, omega = 0, hz = 0;
-    if (row >> mode >> eigenvalue >> omega >> hz) {
-      f.push_back(hz);
-    } else if (!f.empty()) {
-      break;  // end of the table
-    }
-  }
-  return f;
-}
 
 /// Element type, and whether the mass is integrated with the stiffness rule as CalculiX does.
 struct CalculixCase {
@@ -93,38 +69,15 @@ TEST_P(AgainstCalculix, CantileverBarFirstTwentyFrequencies) {
   const int modes = 20;
 
   // CalculiX on the same mesh file.
-  {
-    std::ofstream job(dir_ / "job.inp");
-    job << "*INCLUDE, INPUT=bar.inp\n"
-        << "*MATERIAL, NAME=STEEL\n*ELASTIC\n210000000000., 0.3\n*DENSITY\n7850.\n"
-        << "*SOLID SECTION, ELSET=EALL, MATERIAL=STEEL\n"
-        << "*BOUNDARY\nNFIX, 1, 3\n"
-        << "*STEP\n*FREQUENCY\n"
-        << modes << "\n*END STEP\n";
-  }
-  const std::string command = "cd " + dir_.string() + " && OMP_NUM_THREADS=1 ccx -i job > ccx.log 2>&1";
-  ASSERT_EQ(std::system(command.c_str()), 0) << "ccx failed; see " << (dir_ / "ccx.log");
-  const std::vector<double> reference = ccx_frequencies(dir_ / "job.dat");
+  const std::vector<double> reference = testing::ccx_bar_frequencies(dir_, "EALL", modes);
   ASSERT_EQ(reference.size(), static_cast<std::size_t>(modes));
 
   // condense on the same file, the same material and supports.
-  Component c;
-  c.name = "bar";
-  c.kind = "volume";
-  c.materials["steel"] = Material{"steel", 210e9, 0.3, 7850.0};
-  c.volume.mesh = inp;
-  c.volume.material = "steel";
-  c.volume.mass_like_calculix = GetParam().mass_like_calculix;
-  Support clamp;
-  clamp.box = std::array<double, 6>{-1e-9, -1, -1, 1e-9, 1, 1};
-  clamp.dofs = {true, true, true, false, false, false};
-  c.supports = {clamp};
+  Component c = testing::steel_bar(inp, true, modes, GetParam().mass_like_calculix);
   NamedPoint tip;
   tip.name = "tip";
   tip.at = {0.4, 0.02, 0.02};
   c.observers = {tip};
-  c.reduction.method = ReductionMethod::kModal;
-  c.reduction.modes = modes;
   const Superelement se = condense_component(c, EigenBackend::kSpectra, kQuiet);
   ASSERT_EQ(se.frequency_hz.size(), modes);
   double worst = 0.0;
@@ -159,30 +112,12 @@ TEST(GmshGeometry, MeshedInProcessAndAgainstCalculixOnTheSameMesh) {
   {
     std::ofstream out(dir / "bar.inp");
     write_abaqus_mesh(mesh, out);
-    std::ofstream job(dir / "job.inp");
-    job << "*INCLUDE, INPUT=bar.inp\n*MATERIAL, NAME=STEEL\n*ELASTIC\n210000000000., 0.3\n*DENSITY\n7850.\n"
-        << "*SOLID SECTION, ELSET=SOLID, MATERIAL=STEEL\n*BOUNDARY\nNFIX, 1, 3\n*STEP\n*FREQUENCY\n10\n*END "
-           "STEP\n";
   }
-  const std::string command = "cd " + dir.string() + " && OMP_NUM_THREADS=1 ccx -i job > ccx.log 2>&1";
-  ASSERT_EQ(std::system(command.c_str()), 0);
-  const std::vector<double> reference = ccx_frequencies(dir / "job.dat");
-  ASSERT_EQ(reference.size(), 10u);
+  const std::vector<double> reference = testing::ccx_bar_frequencies(dir, "SOLID", 10);
+  ASSERT_EQ(reference.size(), 10u) << "ccx failed; see " << (dir / "ccx.log");
 
-  Component c;
-  c.name = "bar";
-  c.kind = "volume";
-  c.materials["steel"] = Material{"steel", 210e9, 0.3, 7850.0};
-  c.volume.mesh = dir / "bar.geo";
-  c.volume.material = "steel";
+  Component c = testing::steel_bar(dir / "bar.geo", true, 10, true);
   c.volume.size = 0.01;
-  c.volume.mass_like_calculix = true;
-  Support clamp;
-  clamp.box = std::array<double, 6>{-1e-9, -1, -1, 1e-9, 1, 1};
-  clamp.dofs = {true, true, true, false, false, false};
-  c.supports = {clamp};
-  c.reduction.method = ReductionMethod::kModal;
-  c.reduction.modes = 10;
   const Superelement se = condense_component(c, EigenBackend::kSpectra, kQuiet);
   fs::remove_all(dir);
   double worst = 0.0;
