@@ -2,12 +2,14 @@
 
 #include <algorithm>
 #include <limits>
+#include <memory>
 #include <set>
 #include <sstream>
 
 #include "condense/abaqus_mesh.hpp"
 #include "condense/beam_model.hpp"
 #include "condense/geometric_stiffness.hpp"
+#include "condense/p_multigrid.hpp"
 #include "condense/reduction.hpp"
 #include "condense/volume_model.hpp"
 
@@ -142,6 +144,23 @@ Superelement condense_component(const Component& c, EigenBackend backend, const 
                                 const CondenseRun& run) {
   StageTimer* timer = run.timer;
   const bool volume = c.kind == "volume";
+  if (backend == EigenBackend::kLobpcg) {
+    // The iterative eigen-solve (lobpcg.hpp) replaces the factor of K for solids; everything else factorizes
+    // anyway.
+    if (!volume)
+      throw Error(
+          "the lobpcg eigensolver is for volume components (second-order tetrahedra); beam models "
+          "solve with spectra in a fraction of a second");
+    if (c.reduction.method != ReductionMethod::kModal)
+      throw Error(
+          "the lobpcg eigensolver works for the modal reduction only: Craig-Bampton and Guyan factorize "
+          "the interior stiffness for their constraint modes anyway (use spectra)",
+          c.reduction.where, "reduction.method");
+    if (c.reduction.modes <= 0)
+      throw Error(
+          "the lobpcg eigensolver needs a mode count: give modes = N instead of fmax (or use spectra)",
+          c.reduction.where, c.reduction.where_key);
+  }
   Mesh mesh;
   if (volume) {
     mesh = load_volume_mesh(c);
@@ -169,6 +188,12 @@ Superelement condense_component(const Component& c, EigenBackend backend, const 
     observer_nodes = locate(model, c.observers, c.point_tolerance, "observation");
   }
   const int rigid_body_modes = count_rigid_body_modes(model);
+  if (backend == EigenBackend::kLobpcg && rigid_body_modes > 0)
+    throw Error(
+        "the lobpcg eigensolver needs a supported component: this one has " +
+        std::to_string(rigid_body_modes) +
+        " rigid-body modes (no supports hold it; its K is singular and the preconditioner with it). Give "
+        "[[fix]] supports, or use the spectra eigensolver for a free part");
   // The free-DOF matrices; what the reduction does not need is freed before it runs (its factorization
   // sets the peak memory): the nodal stiffness, and the mesh unless it is exported. A modal reduction
   // reads one triangle only and hands both matrices over to the eigen-solve (see ReductionInput).
@@ -185,6 +210,8 @@ Superelement condense_component(const Component& c, EigenBackend backend, const 
     SparseMatrix M = model.mass(stored);
     in.mass.swap(M);
   }
+  if (backend == EigenBackend::kLobpcg)
+    in.coarse_space = std::make_shared<const CoarseSpace>(tet10_vertex_space(mesh, model));
   if (!run.mesh_export) mesh = Mesh();
   log.info("model: " + std::to_string(model.nodes.size()) + " nodes, " + std::to_string(model.element_count) +
            " " + model.element_kind + ", " + std::to_string(model.free_dofs()) + " free DOF");
@@ -379,6 +406,7 @@ Superelement condense_component(const Component& c, EigenBackend backend, const 
   se.factor_seconds = r.factor.factor_seconds;
   se.eigen_seconds = r.eigen_seconds;
   se.eigen_solves = r.eigen_solves;
+  se.eigensolver = to_string(backend);
   se.reduction_error.estimate = r.frf_error;
   se.reduction_error.tolerance = c.reduction.frf_tolerance;
   se.reduction_error.cutoff_hz = r.cutoff_hz;

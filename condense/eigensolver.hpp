@@ -20,20 +20,21 @@
 #include <string>
 
 #include "condense/constrained_factor.hpp"
+#include "condense/p_multigrid.hpp"
 #include "condense/sparse_cholesky.hpp"
 
 namespace nvh::condense {
 
 using SparseMatrix = Eigen::SparseMatrix<double>;  // column-major
 
-enum class EigenBackend { kSpectra, kArpack, kDense };
+enum class EigenBackend { kSpectra, kArpack, kDense, kLobpcg };
 
 /// Progress of an iterative solve: solves with the factorization done in the current Lanczos run, and
 /// the number a run without restarts needs (its basis size). Called every few solves; the library
 /// never prints, the caller decides (the CLI draws nvh::Progress).
 using EigenProgress = std::function<void(int done, int expected)>;
 
-/// Parse "spectra" | "arpack" | "dense"; nvh::Error listing the choices otherwise.
+/// Parse "spectra" | "arpack" | "dense" | "lobpcg"; nvh::Error listing the choices otherwise.
 EigenBackend parse_eigen_backend(const std::string& name);
 std::string to_string(EigenBackend backend);
 
@@ -59,6 +60,8 @@ struct EigenRequest {
   std::shared_ptr<const ConstrainedFactor> stiffness_factor;
   /// K and M hold their lower triangles only (with the diagonal), exactly symmetric by construction.
   bool lower_triangles = false;
+  /// kLobpcg: the coarse space of its preconditioner (p_multigrid.hpp; solids of C3D10 elements), required.
+  std::shared_ptr<const CoarseSpace> coarse_space;
 };
 
 struct EigenResult {

@@ -89,10 +89,12 @@ std::string run_report(const nvh::StageTimer& timer, const nvh::condense::Supere
   if (!se.factor_ordering.empty()) {
     out.unsetf(std::ios::fixed);
     out.precision(3);
-    out << "\n  factor: " << se.factor_ordering << " ordering, nnz(L) " << se.factor_nonzeros << " = "
-        << se.factor_nonzeros / se.matrix_nonzeros << " x nnz(tril A), " << se.factor_flops / 1e9
-        << " Gflop, " << se.factorizations << " factorization" << (se.factorizations == 1 ? "" : "s") << ", "
-        << se.eigen_solves << " solves; BLAS: " << nvh::blas_kernels();
+    const bool lobpcg = se.eigensolver == "lobpcg";  // its factor is the preconditioner's coarse one
+    out << "\n  " << (lobpcg ? "coarse factor: " : "factor: ") << se.factor_ordering << " ordering, nnz(L) "
+        << se.factor_nonzeros << " = " << se.factor_nonzeros / se.matrix_nonzeros << " x nnz(tril A), "
+        << se.factor_flops / 1e9 << " Gflop, " << se.factorizations << " factorization"
+        << (se.factorizations == 1 ? "" : "s") << ", " << se.eigen_solves
+        << (lobpcg ? " LOBPCG iterations" : " solves") << "; BLAS: " << nvh::blas_kernels();
   }
   return out.str();
 }
@@ -134,8 +136,9 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"modal", "craig-bampton", "guyan"}));
   app.add_option("--eigensolver", eigensolver,
                  "eigen-solver backend: spectra (shift-invert Lanczos, default), arpack (for comparison), "
-                 "dense (small models)")
-      ->check(CLI::IsMember({"spectra", "arpack", "dense"}));
+                 "dense (small models), lobpcg (large solids of second-order tetrahedra, modal reduction by "
+                 "a mode count: no factor of K, about half the memory; docs/component-format.md)")
+      ->check(CLI::IsMember({"spectra", "arpack", "dense", "lobpcg"}));
   app.add_option("--ordering", ordering,
                  "fill-reducing ordering of the sparse factorizations: auto (CHOLMOD's choice: AMD, or METIS "
                  "when AMD fills much; default), amd, metis, nesdis")

@@ -31,6 +31,7 @@ EigenRequest request_for(const ReductionSettings& s, int rigid, const ReductionI
   r.progress = in.progress;
   r.ordering = in.ordering;
   r.lower_triangles = in.lower_triangles;
+  r.coarse_space = in.coarse_space;
   if (s.modes > 0) {
     r.modes = s.modes + rigid;
   } else {
@@ -120,6 +121,8 @@ FrfErrorEstimate modal_frf_error(const SparseMatrix& K, const SparseMatrix& M, c
     request.modes = 0;
     request.fmax_hz = 1.25 * s.band_hz;
     request.progress = {};
+    // An fmax request: LOBPCG takes counts only, and the estimate factorizes K - sigma M anyway (below).
+    if (request.backend == EigenBackend::kLobpcg) request.backend = EigenBackend::kSpectra;
     extra = solve_eigenproblem(SparseMatrix(K), SparseMatrix(M), request);
     deflation = &extra;
   }
@@ -347,6 +350,8 @@ FrfErrorEstimate craig_bampton_frf_error(const ReductionInput& in, const std::ve
     request.modes = 0;
     request.fmax_hz = 1.25 * s.band_hz;
     request.progress = {};
+    // An fmax request: LOBPCG takes counts only, and the estimate factorizes K - sigma M anyway (below).
+    if (request.backend == EigenBackend::kLobpcg) request.backend = EigenBackend::kSpectra;
     request.stiffness_factor = kii_factor;
     EigenResult eig = solve_eigenproblem(SparseMatrix(Kii), SparseMatrix(Mii), request);
     bound = deflation_bound(eig, true);

@@ -15,6 +15,7 @@
 // reduced, unconstrained system with M_r = I and K_r = diag(omega^2), as Adams and RecurDyn do.
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -41,6 +42,8 @@ struct ReductionInput {
   int rigid_body_modes = 0;                 ///< how many zero-frequency modes the unsupported model has
   ReductionSettings settings;
   EigenBackend backend = EigenBackend::kSpectra;
+  /// kLobpcg: its preconditioner's coarse space (volume components of C3D10 elements); see eigensolver.hpp.
+  std::shared_ptr<const CoarseSpace> coarse_space;
   EigenProgress progress;               ///< optional, handed to the eigen-solves
   Ordering ordering = Ordering::kAuto;  ///< fill-reducing ordering of every factorization
   /// Craig-Bampton: unit loads (free DOF x k, one per column) whose static response the basis must hold:

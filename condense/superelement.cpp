@@ -29,6 +29,7 @@ void write_model_record(h5::Group& root, const ModelRecord& se) {
     model.set_attribute("factorizations", static_cast<std::int64_t>(se.factorizations));
     model.set_attribute("eigen_solves", static_cast<std::int64_t>(se.eigen_solves));
   }
+  if (!se.eigensolver.empty()) model.set_attribute("eigensolver", se.eigensolver);
 }
 
 void write_reduction_error(h5::Group& root, const ReductionErrorRecord& record) {

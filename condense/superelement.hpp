@@ -40,15 +40,16 @@ struct ModelRecord {
   double order_seconds = 0.0;   ///< ordering and symbolic analysis of the factorizations
   double factor_seconds = 0.0;  ///< their numeric factorization
   double eigen_seconds = 0.0;   ///< Lanczos iterations (or the dense eigen-solve)
-  int eigen_solves = 0;         ///< solves with the factorization in the Lanczos iterations
+  int eigen_solves = 0;  ///< solves with the factorization in the Lanczos iterations (lobpcg: its iterations)
+  std::string eigensolver;  ///< the eigen-solve's backend: "spectra", "arpack", "dense" or "lobpcg"
 };
 
 /// The error estimate of the reduction in the band (frf_error.hpp) and how the cut-off was chosen, for
 /// /reduction_error (docs/hdf5-format.md). Empty without a band.
 struct ReductionErrorRecord {
   FrfErrorEstimate estimate;
-  double tolerance = 0.0;  ///< frf_tolerance
-  double cutoff_hz = 0.0;  ///< the cut-off used (0: a count of modes was given)
+  double tolerance = 0.0;                         ///< frf_tolerance
+  double cutoff_hz = 0.0;                         ///< the cut-off used (0: a count of modes was given)
   std::vector<std::pair<double, double>> passes;  ///< cut-offs tried (Hz) and their errors
 };
 

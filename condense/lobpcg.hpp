@@ -1,0 +1,37 @@
+#pragma once
+// LOBPCG: the lowest eigenpairs of A x = mu M x (A, M symmetric positive definite) by the locally optimal
+// block preconditioned conjugate gradient method (Knyazev, SIAM J. Sci. Comput. 23(2), 2001, Algorithm 4.1),
+// each step a Rayleigh-Ritz on [X W P]: the current vectors X, the preconditioned residuals W = T (A X -
+// M X diag(mu)) and the previous search directions P, each block M-orthonormalized and W, P kept
+// M-orthogonal to the blocks before them (the stable form of Hetmaniuk and Lehoucq, J. Comput. Phys. 218,
+// 2006), so that the Ritz problem is a standard one.
+//
+// The alternative to shift-invert Lanczos for large solids where memory decides: no factor of A, only the
+// preconditioner's (p_multigrid.hpp) and eleven blocks of n x (nev + guard) vectors. Measured on the plain
+// block of bench/run_volume_bench.sh (233k free DOF, 30 modes): 0.55 of the memory of the factor-based
+// solve (docs/component-format.md, `eigensolver`; bench/README.md).
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+
+#include "condense/eigensolver.hpp"
+#include "condense/p_multigrid.hpp"
+
+namespace nvh::condense {
+
+struct LobpcgResult {
+  Eigen::VectorXd values;   ///< mu, ascending
+  Eigen::MatrixXd vectors;  ///< n x nev, M-orthonormal
+  int iterations = 0;
+  double largest_residual = 0;  ///< of the nev wanted: ||A x - mu M x|| / (||A x|| + mu ||M x||)
+};
+
+/// The nev lowest eigenpairs, with `guard` more vectors in the block (they speed the convergence of the
+/// highest wanted ones), until every wanted relative residual is below `tolerance`. A, M stored whole
+/// (symmetric_block_product). nvh::Error if the iteration does not converge in `max_iterations` or a block
+/// degenerates.
+/// `start`: n x (nev + guard) start vectors (any scaling, independent), or empty for random ones.
+LobpcgResult lobpcg(const SparseMatrix& a, const SparseMatrix& m_mass, const PMultigrid& preconditioner,
+                    int nev, double tolerance, int guard = 10, int max_iterations = 500,
+                    const EigenProgress* progress = nullptr, Block start = Block());
+
+}  // namespace nvh::condense

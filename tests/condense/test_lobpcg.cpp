@@ -1,0 +1,190 @@
+// The iterative eigen-solve (condense --eigensolver lobpcg: lobpcg.hpp, p_multigrid.hpp): its modes against
+// CalculiX on the same TET10 mesh, the preconditioner's pieces against their defining properties, and the
+// errors for what it cannot do (fmax, Craig-Bampton, other elements, free parts).
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+#include <Eigen/Dense>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <string>
+
+#include "calculix_reference.hpp"
+#include "common/error.hpp"
+#include "common/log.hpp"
+#include "condense/condense.hpp"
+#include "condense/lobpcg.hpp"
+#include "condense/p_multigrid.hpp"
+#include "condense/volume_model.hpp"
+#include "structured_mesh.hpp"
+
+namespace fs = std::filesystem;
+
+namespace nvh::condense {
+namespace {
+
+const Logger kQuiet{std::cerr, "test", Verbosity::kQuiet};
+
+/// A steel bar 0.4 x 0.04 x 0.04 m of C3D10 (16 x 2 x 2 cells, 6 tetrahedra each), written to `dir`.
+fs::path write_bar(const fs::path& dir, bool clamped) {
+  testing::BoxMesher mesher({0.4, 0.04, 0.04}, {16, 2, 2});
+  Mesh mesh = mesher.tet10();
+  if (clamped)
+    for (int n = 0; n < static_cast<int>(mesh.nodes.size()); ++n)
+      if (mesh.nodes[n].x() < 1e-12) mesh.node_sets["NFIX"].push_back(n);
+  const fs::path inp = dir / "bar.inp";
+  std::ofstream out(inp);
+  write_abaqus_mesh(mesh, out);
+  return inp;
+}
+
+/// The bar as both tools solve it: CalculiX's C3D10 mass rule (the same matrices).
+Component bar_component(const fs::path& inp, bool clamped, int modes) {
+  return testing::steel_bar(inp, clamped, modes, true);
+}
+
+class LobpcgBar : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("nvh_lobpcg_" + std::to_string(::getpid()));
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  fs::path dir_;
+};
+
+// The clamped bar's 20 lowest modes against CalculiX's *FREQUENCY on the very same mesh and matrices
+// (the reference; measured agreement of the factor-based solve: 3.4e-7), and against condense's
+// shift-invert Lanczos.
+TEST_F(LobpcgBar, ClampedBarAgainstCalculix) {
+  if (std::system("command -v ccx > /dev/null 2>&1") != 0) GTEST_SKIP() << "ccx (calculix-ccx) not installed";
+  const fs::path inp = write_bar(dir_, true);
+  const int modes = 20;
+  const std::vector<double> reference = testing::ccx_bar_frequencies(dir_, "EALL", modes);
+  ASSERT_EQ(reference.size(), static_cast<std::size_t>(modes));
+
+  const Component c = bar_component(inp, true, modes);
+  const Superelement lob = condense_component(c, EigenBackend::kLobpcg, kQuiet);
+  const Superelement lanczos = condense_component(c, EigenBackend::kSpectra, kQuiet);
+  ASSERT_EQ(lob.frequency_hz.size(), modes);
+  double worst_ccx = 0, worst_lanczos = 0;
+  for (int i = 0; i < modes; ++i) {
+    worst_ccx = std::max(worst_ccx, std::abs(lob.frequency_hz(i) / reference[i] - 1.0));
+    worst_lanczos = std::max(worst_lanczos, std::abs(lob.frequency_hz(i) / lanczos.frequency_hz(i) - 1.0));
+  }
+  std::printf("[ lobpcg ] clamped bar, 20 modes: against ccx %.2e, against shift-invert Lanczos %.2e\n",
+              worst_ccx, worst_lanczos);
+  EXPECT_LT(worst_ccx, 1e-5);      // measured 3.4e-7 (ccx's own accuracy, as for the Lanczos solve)
+  EXPECT_LT(worst_lanczos, 1e-9);  // residuals below 5e-7 give eigenvalues to their square
+}
+
+// The prolongation interpolates linearly: a displacement field linear in x, y, z given at the vertices is
+// reproduced exactly at every midside node (the coarse space holds the TET4 fields).
+TEST_F(LobpcgBar, ProlongationReproducesLinearFields) {
+  // The free bar: with supports a held vertex contributes 0, which a linear field would not.
+  const Component c = bar_component(write_bar(dir_, false), false, 4);
+  const Mesh mesh = load_volume_mesh(c);
+  const FeModel model = build_volume_model(c, mesh);
+  const CoarseSpace space = tet10_vertex_space(mesh, model);
+  const std::vector<int> free = model.free_index();
+  const auto field = [](const Eigen::Vector3d& x, int d) {
+    return 1e-3 * (d + 1) * (0.3 + 2 * x.x() - x.y() + 5 * x.z());
+  };
+  // Coarse values: the field at each vertex DOF (a coarse column's unit entry is its vertex's own DOF).
+  std::vector<std::size_t> nodal_of_row(space.new_index.size());
+  for (std::size_t g = 0; g < free.size(); ++g)
+    if (free[g] >= 0)
+      nodal_of_row[static_cast<std::size_t>(space.new_index[static_cast<std::size_t>(free[g])])] = g;
+  Eigen::VectorXd coarse = Eigen::VectorXd::Constant(space.prolongation.cols(), std::nan(""));
+  for (Eigen::Index col = 0; col < space.prolongation.cols(); ++col)
+    for (SparseMatrix::InnerIterator it(space.prolongation, col); it; ++it)
+      if (it.value() == 1.0) {
+        const std::size_t g = nodal_of_row[static_cast<std::size_t>(it.row())];
+        coarse[col] = field(model.nodes[g / 6], static_cast<int>(g % 6));
+      }
+  ASSERT_TRUE(coarse.allFinite()) << "a coarse DOF without its vertex";
+  const Eigen::VectorXd fine = space.prolongation * coarse;
+  double worst = 0;
+  for (std::size_t g = 0; g < free.size(); ++g) {
+    if (free[g] < 0) continue;
+    const double exact = field(model.nodes[g / 6], static_cast<int>(g % 6));
+    worst = std::max(worst, std::abs(fine[space.new_index[static_cast<std::size_t>(free[g])]] - exact));
+  }
+  EXPECT_LT(worst, 1e-15);  // round-off of 0.5 (a + b)
+}
+
+// The block product equals Eigen's sparse product, and the preconditioner T is symmetric positive definite
+// (LOBPCG's requirement): x^T T y = y^T T x and x^T T x > 0 for random blocks.
+TEST_F(LobpcgBar, BlockProductAndSymmetricPositivePreconditioner) {
+  const Component c = bar_component(write_bar(dir_, true), true, 4);
+  const Mesh mesh = load_volume_mesh(c);
+  const FeModel model = build_volume_model(c, mesh);
+  const CoarseSpace space = tet10_vertex_space(mesh, model);
+  Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> renumber(model.free_dofs());
+  std::copy(space.new_index.begin(), space.new_index.end(), renumber.indices().data());
+  const SparseMatrix k = renumber * model.stiffness() * renumber.transpose();
+  std::mt19937 random(7);
+  std::normal_distribution<double> normal;
+  Block x(k.rows(), 5), y(k.rows(), 5);
+  for (Eigen::Index i = 0; i < x.size(); ++i) x.data()[i] = normal(random), y.data()[i] = normal(random);
+  Block kx;
+  symmetric_block_product(k, x, kx);
+  const Eigen::MatrixXd reference = k * Eigen::MatrixXd(x);
+  EXPECT_LT((Eigen::MatrixXd(kx) - reference).cwiseAbs().maxCoeff(), 1e-12 * reference.cwiseAbs().maxCoeff());
+
+  const PMultigrid t(k, space.prolongation, 2, Ordering::kAuto);
+  Block tx, ty, s1, s2, s3;
+  t.apply(x, tx, {s1, s2, s3});
+  t.apply(y, ty, {s1, s2, s3});
+  const Eigen::MatrixXd xty = Eigen::MatrixXd(x).transpose() * Eigen::MatrixXd(ty);
+  const Eigen::MatrixXd ytx = Eigen::MatrixXd(y).transpose() * Eigen::MatrixXd(tx);
+  EXPECT_LT((xty - ytx.transpose()).cwiseAbs().maxCoeff(), 1e-10 * xty.cwiseAbs().maxCoeff());
+  const Eigen::MatrixXd xtx = Eigen::MatrixXd(x).transpose() * Eigen::MatrixXd(tx);
+  for (int j = 0; j < 5; ++j) EXPECT_GT(xtx(j, j), 0.0);
+}
+
+// What it cannot do is refused, naming what to give instead.
+TEST_F(LobpcgBar, RefusesFmaxCraigBamptonAndOtherElements) {
+  Component by_fmax = bar_component(write_bar(dir_, true), true, 0);
+  by_fmax.reduction.fmax_hz = 2000.0;
+  try {
+    condense_component(by_fmax, EigenBackend::kLobpcg, kQuiet);
+    ADD_FAILURE() << "an fmax request was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("mode count"), std::string::npos) << e.what();
+  }
+  Component cb = bar_component(write_bar(dir_, true), true, 4);
+  cb.reduction.method = ReductionMethod::kCraigBampton;
+  try {
+    condense_component(cb, EigenBackend::kLobpcg, kQuiet);
+    ADD_FAILURE() << "Craig-Bampton was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("modal reduction only"), std::string::npos) << e.what();
+  }
+  {
+    testing::BoxMesher mesher({0.4, 0.04, 0.04}, {8, 2, 2});
+    std::ofstream out(dir_ / "hex.inp");
+    write_abaqus_mesh(mesher.hex20(), out);
+  }
+  const Component hex = bar_component(dir_ / "hex.inp", true, 4);
+  try {
+    condense_component(hex, EigenBackend::kLobpcg, kQuiet);
+    ADD_FAILURE() << "a C3D20 mesh was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("C3D20"), std::string::npos) << e.what();
+  }
+  // A free part: its singular K would be the preconditioner's too (not done yet: see the docs).
+  const Component free_bar = bar_component(write_bar(dir_, false), false, 4);
+  try {
+    condense_component(free_bar, EigenBackend::kLobpcg, kQuiet);
+    ADD_FAILURE() << "a free part was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("6 rigid-body modes"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace nvh::condense
