@@ -188,12 +188,6 @@ Superelement condense_component(const Component& c, EigenBackend backend, const 
     observer_nodes = locate(model, c.observers, c.point_tolerance, "observation");
   }
   const int rigid_body_modes = count_rigid_body_modes(model);
-  if (backend == EigenBackend::kLobpcg && rigid_body_modes > 0)
-    throw Error(
-        "the lobpcg eigensolver needs a supported component: this one has " +
-        std::to_string(rigid_body_modes) +
-        " rigid-body modes (no supports hold it; its K is singular and the preconditioner with it). Give "
-        "[[fix]] supports, or use the spectra eigensolver for a free part");
   // The free-DOF matrices; what the reduction does not need is freed before it runs (its factorization
   // sets the peak memory): the nodal stiffness, and the mesh unless it is exported. A modal reduction
   // reads one triangle only and hands both matrices over to the eigen-solve (see ReductionInput).

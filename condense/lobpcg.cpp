@@ -62,7 +62,11 @@ bool orthonormalize(Block& b, Block& mb, Block& ab, Block& scratch) {
 
 LobpcgResult lobpcg(const SparseMatrix& a, const SparseMatrix& m_mass, const PMultigrid& preconditioner,
                     int nev, double tolerance, int guard, int max_iterations, const EigenProgress* progress,
-                    Block start) {
+                    Block start, const LobpcgConstraints* constraints) {
+  // b <- b - Y (M Y)^T b: M-orthogonal to the constraints.
+  const auto project = [constraints](Block& b) {
+    if (constraints && constraints->y.cols() > 0) times(constraints->y, gram(constraints->my, b), b, -1, 1);
+  };
   const Eigen::Index n = a.rows();
   const Eigen::Index m = std::min<Eigen::Index>(nev + guard, n / 3);
   if (nev < 1 || m < nev)
@@ -80,6 +84,7 @@ LobpcgResult lobpcg(const SparseMatrix& a, const SparseMatrix& m_mass, const PMu
     std::normal_distribution<double> normal;
     for (Eigen::Index i = 0; i < x.size(); ++i) x.data()[i] = normal(random);
   }
+  project(x);
   symmetric_block_product(m_mass, x, mx);
   symmetric_block_product(a, x, ax);
   if (!orthonormalize(x, mx, ax, s1)) throw Error("lobpcg: the start block is dependent");
@@ -125,6 +130,7 @@ LobpcgResult lobpcg(const SparseMatrix& a, const SparseMatrix& m_mass, const PMu
     for (Eigen::Index i = 0; i < n; ++i)
       for (Eigen::Index c = 0; c < ka; ++c) r(i, c) = ax(i, active[c]) - mu[active[c]] * mx(i, active[c]);
     preconditioner.apply(r, w, {s1, aw, mw});
+    project(w);
     times(x, gram(mx, w), w, -1, 1);  // M-orthogonal to X
     symmetric_block_product(m_mass, w, mw);
     symmetric_block_product(a, w, aw);

@@ -31,8 +31,14 @@ struct LobpcgResult {
 /// (symmetric_block_product). nvh::Error if the iteration does not converge in `max_iterations` or a block
 /// degenerates.
 /// `start`: n x (nev + guard) start vectors (any scaling, independent), or empty for random ones.
+/// `constraints`: Y, M-orthonormal, and M Y: the eigenvectors are sought M-orthogonal to Y (a free part's
+/// rigid-body modes, known exactly; Knyazev 2001, sec. 5), or empty.
+struct LobpcgConstraints {
+  Block y, my;
+};
 LobpcgResult lobpcg(const SparseMatrix& a, const SparseMatrix& m_mass, const PMultigrid& preconditioner,
                     int nev, double tolerance, int guard = 10, int max_iterations = 500,
-                    const EigenProgress* progress = nullptr, Block start = Block());
+                    const EigenProgress* progress = nullptr, Block start = Block(),
+                    const LobpcgConstraints* constraints = nullptr);
 
 }  // namespace nvh::condense

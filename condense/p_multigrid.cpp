@@ -130,6 +130,15 @@ CoarseSpace tet10_vertex_space(const Mesh& mesh, const FeModel& model) {
   }
   space.prolongation.resize(static_cast<Eigen::Index>(n), nc);
   space.prolongation.setFromTriplets(t.begin(), t.end());
+  const Eigen::MatrixXd motions = model.unsupported_rigid_motions();  // 6 x r
+  if (motions.cols() > 0) {
+    const Eigen::MatrixXd field = model.rigid_body_field() * motions;  // 6N x r
+    space.rigid_modes.resize(static_cast<Eigen::Index>(n), motions.cols());
+    for (std::size_t g = 0; g < free.size(); ++g)
+      if (free[g] >= 0)
+        space.rigid_modes.row(space.new_index[static_cast<std::size_t>(free[g])]) =
+            field.row(static_cast<Eigen::Index>(g));
+  }
   return space;
 }
 

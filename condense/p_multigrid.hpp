@@ -34,6 +34,8 @@ struct CoarseSpace {
   std::vector<int> new_index;
   /// Free DOF (new numbering) x coarse DOF (the free translations of the vertices, in the same order).
   SparseMatrix prolongation;
+  /// A free part's rigid-body motions on the free DOF (new numbering), one column each; none if supported.
+  Eigen::MatrixXd rigid_modes;
 };
 
 /// nvh::Error if an element is not C3D10 (the coarse space is their vertices).
