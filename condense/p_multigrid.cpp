@@ -88,7 +88,7 @@ CoarseSpace tet10_vertex_space(const Mesh& mesh, const FeModel& model) {
   for (const MeshElement& e : mesh.elements) {
     if (e.type != "C3D10")
       throw Error("the lobpcg eigensolver needs a mesh of second-order tetrahedra (C3D10): element " +
-                  std::to_string(e.id) + " is " + e.type);
+                  std::to_string(e.id) + " (line " + std::to_string(e.line) + " of the mesh) is " + e.type);
     for (int v = 0; v < 4; ++v)
       for (int d = 0; d < 3; ++d) vertex[6 * static_cast<std::size_t>(e.nodes[v]) + d] = 1;
   }
