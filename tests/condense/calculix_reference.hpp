@@ -36,9 +36,10 @@ inline Component steel_bar(const std::filesystem::path& mesh, bool clamped, int 
 }
 
 /// CalculiX's `modes` lowest frequencies (Hz) of the same bar: `dir`/bar.inp (elements in `elset`, the
-/// clamped nodes in NFIX), one thread. Empty if ccx failed (its log: `dir`/ccx.log).
+/// clamped nodes in NFIX, or free without `clamped`: its 6 rigid-body modes first), one thread. Empty if ccx
+/// failed (its log: `dir`/ccx.log).
 inline std::vector<double> ccx_bar_frequencies(const std::filesystem::path& dir, const std::string& elset,
-                                               int modes);
+                                               int modes, bool clamped = true);
 
 /// Frequencies (Hz) from ccx's job.dat: the rows under "E I G E N V A L U E   O U T P U T" are
 /// "mode  eigenvalue  omega[rad/s]  f[Hz]  imaginary".
@@ -66,11 +67,11 @@ inline std::vector<double> ccx_frequencies(const std::filesystem::path& dat) {
 }
 
 inline std::vector<double> ccx_bar_frequencies(const std::filesystem::path& dir, const std::string& elset,
-                                               int modes) {
+                                               int modes, bool clamped) {
   std::ofstream(dir / "job.inp")
       << "*INCLUDE, INPUT=bar.inp\n*MATERIAL, NAME=STEEL\n*ELASTIC\n210000000000., 0.3\n"
       << "*DENSITY\n7850.\n*SOLID SECTION, ELSET=" << elset << ", MATERIAL=STEEL\n"
-      << "*BOUNDARY\nNFIX, 1, 3\n*STEP\n*FREQUENCY\n"
+      << (clamped ? "*BOUNDARY\nNFIX, 1, 3\n" : "") << "*STEP\n*FREQUENCY\n"
       << modes << "\n*END STEP\n";
   const std::string command = "cd " + dir.string() + " && OMP_NUM_THREADS=1 ccx -i job > ccx.log 2>&1";
   if (std::system(command.c_str()) != 0) return {};
