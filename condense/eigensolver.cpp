@@ -773,7 +773,8 @@ RawModes solve_lobpcg(Pencil& pencil, const EigenRequest& request, EigenResult& 
       coarse.modes = block + r;  // the coarse space holds the rigid motions too: they come first
       coarse.lower_triangles = true;
       coarse.ordering = request.ordering;
-      coarse.residual_limit = 1e-3;  // a start, not a result
+      coarse.stiffness_factor = preconditioner.coarse_factor();  // shift 0 on the preconditioner's factor
+      coarse.residual_limit = 1e-3;                              // a start, not a result
       coarse.tolerance = 1e-4;
       const EigenResult modes = solve_eigenproblem(preconditioner.coarse_matrix(), coarse_mass, coarse);
       start = p * modes.vectors.rightCols(block);

@@ -1,12 +1,13 @@
 #include "condense/lobpcg.hpp"
 
-#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <random>
 #include <string>
 #include <tuple>
+#include <utility>
 #include <vector>
 
 #include "common/error.hpp"
@@ -44,18 +45,48 @@ void right_multiply(Block& b, const Eigen::MatrixXd& c, Block& scratch) {
   b.swap(scratch);
 }
 
-/// Orthonormalize b in the M inner product (mb = M b), with ab = A b changed alike. false if b^T M b is not
-/// positive definite (the block has become dependent).
-bool orthonormalize(Block& b, Block& mb, Block& ab, Block& scratch) {
+/// Orthonormalize b in the M inner product (mb = M b), with ab = A b changed alike, by SVQB (Stathopoulos
+/// and Wu, SIAM J. Sci. Comput. 23(6), 2002, Algorithm 3): G = b^T M b scaled by `reference` (each
+/// column's M-norm before the caller's projection; G's own diagonal if empty) to D G D = Z Theta Z^T, then
+/// b <- b D Z Theta^-1/2. Directions with theta below kDrop are dropped (the "ortho-drop" of Duersch, Shao,
+/// Yang and Gu, SIAM J. Sci. Comput. 40(5), 2018): a column that the projection has all but cancelled, or
+/// one nearly dependent on the others, is rounding noise, and its images A b, M b - formed by the same
+/// linear combinations, not by new products - would carry errors amplified by theta^-1/2 into the Ritz
+/// problem (seen as a spurious Ritz value, then a breakdown, before this was done). Returns the number of
+/// columns kept (0: none), and the largest over the smallest theta kept.
+constexpr double kDrop = 1e-10;  // the images' errors stay below 1e5 eps of their norms
+std::pair<Eigen::Index, double> svqb(Block& b, Block& mb, Block& ab, Block& scratch,
+                                     const Eigen::VectorXd& reference = Eigen::VectorXd()) {
   const Eigen::MatrixXd g = gram(b, mb);
-  const Eigen::LLT<Eigen::MatrixXd> llt(0.5 * (g + g.transpose()));
-  if (llt.info() != Eigen::Success) return false;
-  const Eigen::MatrixXd u_inverse = llt.matrixU().solve(Eigen::MatrixXd::Identity(g.rows(), g.cols()));
-  if (!u_inverse.allFinite()) return false;
-  right_multiply(b, u_inverse, scratch);
-  right_multiply(mb, u_inverse, scratch);
-  right_multiply(ab, u_inverse, scratch);
-  return true;
+  Eigen::VectorXd d = reference.size() ? reference : Eigen::VectorXd(g.diagonal().cwiseMax(0).cwiseSqrt());
+  for (Eigen::Index j = 0; j < d.size(); ++j) d[j] = d[j] > 0 ? 1 / d[j] : 0;
+  const Eigen::MatrixXd scaled = d.asDiagonal() * (0.5 * (g + g.transpose())) * d.asDiagonal();
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(scaled);
+  const Eigen::VectorXd& theta = eig.eigenvalues();  // ascending
+  const double floor = kDrop * std::max(1.0, theta.size() ? theta[theta.size() - 1] : 0.0);
+  Eigen::Index first = 0;
+  while (first < theta.size() && !(theta[first] > floor)) ++first;
+  const Eigen::Index kept = theta.size() - first;
+  if (kept == 0 || !eig.eigenvectors().allFinite()) return {0, 0.0};
+  const Eigen::MatrixXd c = d.asDiagonal() * eig.eigenvectors().rightCols(kept) *
+                            theta.tail(kept).cwiseSqrt().cwiseInverse().asDiagonal();
+  right_multiply(b, c, scratch);
+  right_multiply(mb, c, scratch);
+  right_multiply(ab, c, scratch);
+  return {kept, theta[theta.size() - 1] / theta[first]};
+}
+
+std::string scientific(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.2e", value);
+  return text;
+}
+
+/// The M-norm of each column of b (mb = M b), in one pass over the rows.
+Eigen::VectorXd column_norms(const Block& b, const Block& mb) {
+  Eigen::ArrayXd sum = Eigen::ArrayXd::Zero(b.cols());
+  for (Eigen::Index i = 0; i < b.rows(); ++i) sum += (b.row(i).array() * mb.row(i).array()).transpose();
+  return sum.cwiseMax(0).sqrt().matrix();
 }
 
 }  // namespace
@@ -76,18 +107,22 @@ LobpcgResult lobpcg(const SparseMatrix& a, const SparseMatrix& m_mass, const PMu
   // before these are formed.
   Block x, ax, mx, w, aw, mw, p, ap, mp, s1, s2;
   Block& r = s2;
-  if (start.rows() == n && start.cols() == m) {
-    x.swap(start);
-  } else {
-    x.resize(n, m);
-    std::mt19937 random(20261129);  // a fixed seed: the same run gives the same modes
-    std::normal_distribution<double> normal;
-    for (Eigen::Index i = 0; i < x.size(); ++i) x.data()[i] = normal(random);
+  // The start: the given block, its dependent columns dropped, filled up to m with random ones.
+  std::mt19937 random(20261129);  // a fixed seed: the same run gives the same modes
+  std::normal_distribution<double> normal;
+  if (start.rows() == n && start.cols() <= m) x.swap(start);
+  for (int attempt = 0;; ++attempt) {
+    if (const Eigen::Index have = x.cols(); have < m) {
+      x.conservativeResize(n, m);
+      for (Eigen::Index i = 0; i < n; ++i)
+        for (Eigen::Index j = have; j < m; ++j) x(i, j) = normal(random);
+    }
+    for (int pass = 0; pass < 2; ++pass) project(x);
+    symmetric_block_product(m_mass, x, mx);
+    symmetric_block_product(a, x, ax);
+    if (svqb(x, mx, ax, s1).first == m) break;
+    if (attempt == 2) throw Error("lobpcg: no start block of " + std::to_string(m) + " independent vectors");
   }
-  project(x);
-  symmetric_block_product(m_mass, x, mx);
-  symmetric_block_product(a, x, ax);
-  if (!orthonormalize(x, mx, ax, s1)) throw Error("lobpcg: the start block is dependent");
   Eigen::VectorXd mu;
   {  // Rayleigh-Ritz on X alone
     const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> ritz(gram(x, ax));
@@ -118,8 +153,8 @@ LobpcgResult lobpcg(const SparseMatrix& a, const SparseMatrix& m_mass, const PMu
     if (worst <= tolerance) break;
     if (it == max_iterations)
       throw Error("lobpcg did not converge in " + std::to_string(max_iterations) +
-                  " iterations: largest relative residual " + std::to_string(worst) + " > " +
-                  std::to_string(tolerance) + " (try the spectra eigensolver)");
+                  " iterations: largest relative residual " + scientific(worst) + " > " +
+                  scientific(tolerance) + " (try the spectra eigensolver)");
     // Soft locking (Knyazev 2001, sec. 5): a converged wanted vector stays in X and in the Ritz problem,
     // but gets no new search direction; the guard columns always do.
     active.clear();
@@ -130,36 +165,50 @@ LobpcgResult lobpcg(const SparseMatrix& a, const SparseMatrix& m_mass, const PMu
     for (Eigen::Index i = 0; i < n; ++i)
       for (Eigen::Index c = 0; c < ka; ++c) r(i, c) = ax(i, active[c]) - mu[active[c]] * mx(i, active[c]);
     preconditioner.apply(r, w, {s1, aw, mw});
-    project(w);
-    times(x, gram(mx, w), w, -1, 1);  // M-orthogonal to X
+    // W M-orthogonal to the constraints and to X by classical Gram-Schmidt twice ("twice is enough":
+    // Giraud, Langou, Rozloznik, Comput. Math. Appl. 50, 2005): a residual of a nearly converged column lies
+    // almost in span X, and one pass leaves its remainder far from orthogonal. Before A W and M W are
+    // formed, so that these are exact products of what is kept.
+    for (int pass = 0; pass < 2; ++pass) {
+      project(w);
+      times(x, gram(mx, w), w, -1, 1);
+    }
     symmetric_block_product(m_mass, w, mw);
     symmetric_block_product(a, w, aw);
-    if (!orthonormalize(w, mw, aw, s1)) throw Error("lobpcg: the preconditioned residuals became dependent");
+    auto [kw, condition] = svqb(w, mw, aw, s1);
+    if (kw == 0)
+      throw Error(
+          "lobpcg: the preconditioned residuals lie in the span of the current vectors at iteration " +
+          std::to_string(it) + " (try the spectra eigensolver)");
+    if (condition > 1e6) kw = svqb(w, mw, aw, s1).first;  // a second pass restores orthonormality
     bool with_p = p.cols() > 0;
-    if (with_p) {  // P against X and W, then orthonormal; dropped for this step if it has become dependent
+    if (with_p) {  // P against X and W, then orthonormal; its cancelled directions dropped
+      const Eigen::VectorXd before = column_norms(p, mp);
       const Eigen::MatrixXd cx = gram(mx, p), cw = gram(mw, p);
       for (auto [pb, xb, wb] :
            {std::tuple{&p, &x, &w}, std::tuple{&ap, &ax, &aw}, std::tuple{&mp, &mx, &mw}}) {
         times(*xb, cx, *pb, -1, 1);
         times(*wb, cw, *pb, -1, 1);
       }
-      with_p = orthonormalize(p, mp, ap, s1);
+      auto [kept, p_condition] = svqb(p, mp, ap, s1, before);
+      if (kept > 0 && p_condition > 1e6) kept = svqb(p, mp, ap, s1).first;
+      with_p = kept > 0;
     }
     // The Ritz problem on the M-orthonormal basis [X W P]: B = I, A's blocks (X^T A X = diag(mu)).
-    const Eigen::Index kp = with_p ? p.cols() : 0, k = m + ka + kp;
+    const Eigen::Index kp = with_p ? p.cols() : 0, k = m + kw + kp;
     Eigen::MatrixXd ritz_matrix = Eigen::MatrixXd::Zero(k, k);
     ritz_matrix.topLeftCorner(m, m) = mu.asDiagonal();
-    ritz_matrix.block(0, m, m, ka) = gram(x, aw);
-    ritz_matrix.block(m, m, ka, ka) = gram(w, aw);
+    ritz_matrix.block(0, m, m, kw) = gram(x, aw);
+    ritz_matrix.block(m, m, kw, kw) = gram(w, aw);
     if (with_p) {
-      ritz_matrix.block(0, m + ka, m, kp) = gram(x, ap);
-      ritz_matrix.block(m, m + ka, ka, kp) = gram(w, ap);
-      ritz_matrix.block(m + ka, m + ka, kp, kp) = gram(p, ap);
+      ritz_matrix.block(0, m + kw, m, kp) = gram(x, ap);
+      ritz_matrix.block(m, m + kw, kw, kp) = gram(w, ap);
+      ritz_matrix.block(m + kw, m + kw, kp, kp) = gram(p, ap);
     }
     const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> ritz(ritz_matrix.selfadjointView<Eigen::Upper>());
     const Eigen::MatrixXd c = ritz.eigenvectors().leftCols(m);
     mu = ritz.eigenvalues().head(m);
-    const Eigen::MatrixXd cx = c.topRows(m), cw = c.middleRows(m, ka), cp = c.bottomRows(kp);
+    const Eigen::MatrixXd cx = c.topRows(m), cw = c.middleRows(m, kw), cp = c.bottomRows(kp);
     // D = W cw + P cp, X <- X cx + D, P <- D's active columns; alike for A X, A P, M X, M P.
     const auto update = [&](Block& xb, const Block& wb, Block& pb) {
       times(wb, cw, s1, 1, 0);

@@ -4,7 +4,9 @@
 // each step a Rayleigh-Ritz on [X W P]: the current vectors X, the preconditioned residuals W = T (A X -
 // M X diag(mu)) and the previous search directions P, each block M-orthonormalized and W, P kept
 // M-orthogonal to the blocks before them (the stable form of Hetmaniuk and Lehoucq, J. Comput. Phys. 218,
-// 2006), so that the Ritz problem is a standard one.
+// 2006), so that the Ritz problem is a standard one. Robust against nearly dependent bases: W projected
+// twice, and the directions of W and P that the projections cancel dropped (SVQB with "ortho-drop",
+// Duersch, Shao, Yang and Gu, SIAM J. Sci. Comput. 40(5), 2018).
 //
 // The alternative to shift-invert Lanczos for large solids where memory decides: no factor of A, only the
 // preconditioner's (p_multigrid.hpp) and eleven blocks of n x (nev + guard) vectors. Measured on the plain
@@ -30,7 +32,8 @@ struct LobpcgResult {
 /// highest wanted ones), until every wanted relative residual is below `tolerance`. A, M stored whole
 /// (symmetric_block_product). nvh::Error if the iteration does not converge in `max_iterations` or a block
 /// degenerates.
-/// `start`: n x (nev + guard) start vectors (any scaling, independent), or empty for random ones.
+/// `start`: up to n x (nev + guard) start vectors (any scaling; dependent columns are dropped), filled up
+/// with random ones; empty: random ones.
 /// `constraints`: Y, M-orthonormal, and M Y: the eigenvectors are sought M-orthogonal to Y (a free part's
 /// rigid-body modes, known exactly; Knyazev 2001, sec. 5), or empty.
 struct LobpcgConstraints {

@@ -143,7 +143,10 @@ CoarseSpace tet10_vertex_space(const Mesh& mesh, const FeModel& model) {
 }
 
 PMultigrid::PMultigrid(const SparseMatrix& a, const SparseMatrix& prolongation, int degree, Ordering ordering)
-    : a_(a), prolongation_(prolongation), degree_(degree), coarse_factor_(ordering) {
+    : a_(a),
+      prolongation_(prolongation),
+      degree_(degree),
+      coarse_factor_(std::make_shared<ConstrainedFactor>(ordering)) {
   inverse_diagonal_ = a_.diagonal().cwiseInverse();
   // The largest eigenvalue of D^-1 A by 20 steps of power iteration from a fixed start (deterministic).
   Block v = Block::Ones(a_.rows(), 1), w;
@@ -163,7 +166,7 @@ PMultigrid::PMultigrid(const SparseMatrix& a, const SparseMatrix& prolongation, 
     const SparseMatrix ap = a_ * prolongation_;
     coarse = SparseMatrix(prolongation_.transpose()) * ap;
   }
-  if (!coarse_factor_.factorize(coarse))
+  if (!coarse_factor_->factorize(coarse))
     throw Error("the lobpcg eigensolver: the coarse (vertex) stiffness is not positive definite");
   coarse_ = coarse.triangularView<Eigen::Lower>();
 }
@@ -174,7 +177,7 @@ void PMultigrid::apply(const Block& r, Block& x, const Workspace& ws) const {
   symmetric_block_product(a_, x, ws.scratch);
   ws.scratch = r - ws.scratch;  // the residual after the pre-smoothing
   coarse_rhs_.noalias() = prolongation_.transpose() * ws.scratch;
-  coarse_solution_ = coarse_factor_.solve(coarse_rhs_);
+  coarse_solution_ = coarse_factor_->solve(coarse_rhs_);
   x.noalias() += prolongation_ * coarse_solution_;
   smooth(r, x, ws, false);
 }

@@ -12,11 +12,12 @@
 // Gflop/s for 40 vectors, before the product kept its 16-column chunks in registers).
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
+#include <memory>
 #include <vector>
 
 #include "condense/abaqus_mesh.hpp"
+#include "condense/constrained_factor.hpp"
 #include "condense/fe_model.hpp"
-#include "condense/sparse_cholesky.hpp"
 
 namespace nvh::condense {
 
@@ -57,7 +58,9 @@ class PMultigrid {
   void apply(const Block& r, Block& x, const Workspace& ws) const;
 
   Eigen::Index coarse_rows() const { return prolongation_.cols(); }
-  const FactorStats& coarse_factor_stats() const { return coarse_factor_.stats(); }
+  const FactorStats& coarse_factor_stats() const { return coarse_factor_->stats(); }
+  /// The factor of P^T A P (shared: the start block's coarse eigen-solve works on it at shift 0).
+  std::shared_ptr<const ConstrainedFactor> coarse_factor() const { return coarse_factor_; }
   /// P^T A P, its lower triangle (a start for the eigen-solve: the coarse level's own modes).
   const SparseMatrix& coarse_matrix() const { return coarse_; }
   const SparseMatrix& prolongation() const { return prolongation_; }
@@ -73,7 +76,7 @@ class PMultigrid {
   Eigen::VectorXd inverse_diagonal_;
   double lower_ = 0, upper_ = 0;  // the smoothing interval of D^-1 A
   SparseMatrix coarse_;           // lower triangle of P^T A P
-  SparseCholesky coarse_factor_;
+  std::shared_ptr<ConstrainedFactor> coarse_factor_;
   mutable Eigen::MatrixXd coarse_rhs_, coarse_solution_;
 };
 

@@ -205,5 +205,81 @@ TEST_F(LobpcgBar, FreeBarLeavesTheRigidBodyModesOut) {
   EXPECT_LT((lob.mass - Eigen::MatrixXd::Identity(12, 12)).cwiseAbs().maxCoeff(), 1e-12);
 }
 
+/// The string of n interior nodes fixed at both ends: A = tridiag(-1, 2, -1), M = I, and its linear
+/// interpolation from the nodes 1, 3, 5, ... (n odd) as the two-grid prolongation.
+struct String {
+  explicit String(int n) : a(n, n), prolongation(n, (n - 1) / 2) {
+    std::vector<Eigen::Triplet<double>> t;
+    for (int i = 0; i < n; ++i) {
+      t.emplace_back(i, i, 2.0);
+      if (i > 0) t.emplace_back(i, i - 1, -1.0), t.emplace_back(i - 1, i, -1.0);
+    }
+    a.setFromTriplets(t.begin(), t.end());
+    m.resize(n, n);
+    m.setIdentity();
+    t.clear();
+    for (int j = 0; j < (n - 1) / 2; ++j) {
+      t.emplace_back(2 * j + 1, j, 1.0);
+      t.emplace_back(2 * j, j, 0.5);
+      t.emplace_back(2 * j + 2, j, 0.5);
+    }
+    prolongation.setFromTriplets(t.begin(), t.end());
+  }
+  /// lambda_k = 4 sin^2(k pi / (2 (n + 1))), x_k(i) = sin(k pi (i + 1) / (n + 1)), k = 1, 2, ...
+  double value(int k) const {
+    const double s = std::sin(k * M_PI / (2.0 * (a.rows() + 1)));
+    return 4 * s * s;
+  }
+  Eigen::VectorXd vector(int k) const {
+    Eigen::VectorXd x(a.rows());
+    for (Eigen::Index i = 0; i < x.size(); ++i) x[i] = std::sin(k * M_PI * (i + 1.0) / (a.rows() + 1.0));
+    return x;
+  }
+  SparseMatrix a, m, prolongation;
+};
+
+// Start blocks that make the block method's bases nearly dependent: the wanted eigenvectors themselves
+// (to 1e-9, so the residuals lie almost in span X from the first step), and a block with two copies of
+// the same vectors apart from 1e-7 of noise. The lowest eigenvalues must still come out to the closed
+// form (reference: the string's lambda_k = 4 sin^2(k pi / 2 (n + 1))). Before the ortho-drop and the
+// second Gram-Schmidt pass (lobpcg.cpp), the second start stalled (relative residual 0.98 after 200
+// iterations), and the clamped bar above, started from the preconditioner's own coarse factor, ended in
+// "the preconditioned residuals became dependent".
+TEST(Lobpcg, NearlyDependentStartBlocksOnTheStringAgainstTheClosedForm) {
+  const int n = 201, nev = 8, guard = 4, m = nev + guard;
+  const String s(n);
+  const PMultigrid t(s.a, s.prolongation, 2, Ordering::kAuto);
+  std::mt19937 random(11);
+  std::normal_distribution<double> normal;
+  const auto check = [&](const LobpcgResult& found, const char* what) {
+    double worst = 0;
+    for (int k = 1; k <= nev; ++k) worst = std::max(worst, std::abs(found.values[k - 1] / s.value(k) - 1));
+    std::printf("[ lobpcg ] string, %s: %d iterations, worst eigenvalue error %.2e\n", what, found.iterations,
+                worst);
+    // Residuals 1e-8 give eigenvalues to their square; the floor is the round-off of A's Rayleigh
+    // quotient, eps ||A|| / lambda_1 = 4e-12.
+    EXPECT_LT(worst, 1e-10) << what;
+    const Eigen::MatrixXd g = found.vectors.transpose() * s.m * found.vectors;
+    EXPECT_LT((g - Eigen::MatrixXd::Identity(nev, nev)).cwiseAbs().maxCoeff(), 1e-12) << what;
+  };
+  {  // the exact eigenvectors, 1e-9 off
+    Block start(n, m);
+    for (int k = 1; k <= m; ++k) {
+      const Eigen::VectorXd x = s.vector(k);
+      for (int i = 0; i < n; ++i) start(i, k - 1) = x[i] * (1 + 1e-9 * normal(random));
+    }
+    check(lobpcg(s.a, s.m, t, nev, 1e-8, guard, 200, nullptr, start), "converged start");
+  }
+  {  // columns j and j + m/2 the same random vector, 1e-7 apart
+    Block start(n, m);
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < m / 2; ++j) {
+        start(i, j) = normal(random);
+        start(i, j + m / 2) = start(i, j) * (1 + 1e-7 * normal(random));
+      }
+    check(lobpcg(s.a, s.m, t, nev, 1e-8, guard, 200, nullptr, start), "pairwise dependent start");
+  }
+}
+
 }  // namespace
 }  // namespace nvh::condense
