@@ -156,10 +156,6 @@ Superelement condense_component(const Component& c, EigenBackend backend, const 
           "the lobpcg eigensolver works for the modal reduction only: Craig-Bampton and Guyan factorize "
           "the interior stiffness for their constraint modes anyway (use spectra)",
           c.reduction.where, "reduction.method");
-    if (c.reduction.modes <= 0)
-      throw Error(
-          "the lobpcg eigensolver needs a mode count: give modes = N instead of fmax (or use spectra)",
-          c.reduction.where, c.reduction.where_key);
   }
   Mesh mesh;
   if (volume) {

@@ -94,5 +94,9 @@ EigenResult solve_eigenproblem(const SparseMatrix& K, const SparseMatrix& M, con
 double frequency_hz(double eigenvalue);
 /// Eigenvalue omega^2 of a frequency in Hz.
 double eigenvalue_of_hz(double hz);
+/// Exponent p of the mode count N(lambda) ~ lambda^p, from the eigenvalues found (any order): between the
+/// middle one and the highest, p = ln(N_top / N_mid) / ln(lambda_top / lambda_mid), clamped to [1/2, 3/2]
+/// (beam to solid); 1/2 if the modes are too few or still rigid. Sizes the next pass of an fmax request.
+double growth_exponent(const Eigen::VectorXd& values);
 
 }  // namespace nvh::condense

@@ -229,4 +229,58 @@ LobpcgResult lobpcg(const SparseMatrix& a, const SparseMatrix& m_mass, const PMu
   return result;
 }
 
+LobpcgResult lobpcg_up_to(const SparseMatrix& a, const SparseMatrix& m_mass, const PMultigrid& preconditioner,
+                          double mu_max, int first_count, double tolerance, int guard, int max_iterations,
+                          const EigenProgress* progress, Block start, const LobpcgConstraints* constraints) {
+  const Eigen::Index n = a.rows();
+  LobpcgConstraints found;  // the given constraints, then every mode found
+  if (constraints) found = *constraints;
+  LobpcgResult all;
+  all.vectors.resize(n, 0);
+  for (int count = std::max(first_count, 1);;) {
+    const Eigen::Index have = all.values.size();
+    if (have + count + guard > n / 3)
+      throw Error("lobpcg: the band up to fmax holds more than " + std::to_string(have) +
+                  " modes, too many for the block method on " + std::to_string(n) +
+                  " unknowns (use the spectra eigensolver)");
+    const LobpcgResult part = lobpcg(a, m_mass, preconditioner, count, tolerance, guard, max_iterations,
+                                     progress, std::move(start), found.y.cols() > 0 ? &found : nullptr);
+    start = Block();
+    all.values.conservativeResize(have + count);
+    all.values.tail(count) = part.values;
+    all.vectors.conservativeResize(Eigen::NoChange, have + count);
+    all.vectors.rightCols(count) = part.vectors;
+    all.iterations += part.iterations;
+    all.largest_residual = std::max(all.largest_residual, part.largest_residual);
+    if (part.values.maxCoeff() > mu_max) break;
+    // The next run keeps M-orthogonal to all found so far, and seeks as many more as the mode count's
+    // growth says lie below mu_max, with 15 % to spare (as the Lanczos passes of eigensolver.cpp).
+    Block y(n, found.y.cols() + count), my;
+    if (found.y.cols() > 0) y.leftCols(found.y.cols()) = found.y;
+    y.rightCols(count) = part.vectors;
+    symmetric_block_product(m_mass, y.rightCols(count).eval(), my);
+    Block my_all(n, y.cols());
+    if (found.my.cols() > 0) my_all.leftCols(found.my.cols()) = found.my;
+    my_all.rightCols(count) = my;
+    found.y.swap(y);
+    found.my.swap(my_all);
+    const Eigen::Index total = all.values.size();
+    const double top = all.values.maxCoeff();
+    const double wanted = std::ceil(1.15 * total * std::pow(mu_max / top, growth_exponent(all.values))) -
+                          static_cast<double>(total);
+    count = static_cast<int>(std::max(wanted, std::max(10.0, 0.25 * total)));
+  }
+  // Ascending over all runs (each run's are; a later run's may interleave where an earlier one stopped).
+  std::vector<Eigen::Index> order(static_cast<std::size_t>(all.values.size()));
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = static_cast<Eigen::Index>(i);
+  std::sort(order.begin(), order.end(),
+            [&](Eigen::Index i, Eigen::Index j) { return all.values[i] < all.values[j]; });
+  LobpcgResult sorted = all;
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    sorted.values[static_cast<Eigen::Index>(i)] = all.values[order[i]];
+    sorted.vectors.col(static_cast<Eigen::Index>(i)) = all.vectors.col(order[i]);
+  }
+  return sorted;
+}
+
 }  // namespace nvh::condense

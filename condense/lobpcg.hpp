@@ -44,4 +44,14 @@ LobpcgResult lobpcg(const SparseMatrix& a, const SparseMatrix& m_mass, const PMu
                     const EigenProgress* progress = nullptr, Block start = Block(),
                     const LobpcgConstraints* constraints = nullptr);
 
+/// Every eigenpair with mu <= mu_max and at least one above it, all converged, by runs of lobpcg(): the
+/// first seeks `first_count` modes, each later one the next modes, M-orthogonal to those found (and to
+/// `constraints`), their count extrapolated from the growth of the mode count with mu (growth_exponent),
+/// until a run finds a value above mu_max. The result holds all runs' modes, ascending. nvh::Error as
+/// lobpcg(), or if mu_max lies above a third of the model's modes (too many for the block method).
+LobpcgResult lobpcg_up_to(const SparseMatrix& a, const SparseMatrix& m_mass, const PMultigrid& preconditioner,
+                          double mu_max, int first_count, double tolerance, int guard = 10,
+                          int max_iterations = 500, const EigenProgress* progress = nullptr,
+                          Block start = Block(), const LobpcgConstraints* constraints = nullptr);
+
 }  // namespace nvh::condense

@@ -136,8 +136,8 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"modal", "craig-bampton", "guyan"}));
   app.add_option("--eigensolver", eigensolver,
                  "eigen-solver backend: spectra (shift-invert Lanczos, default), arpack (for comparison), "
-                 "dense (small models), lobpcg (large solids of second-order tetrahedra, modal reduction by "
-                 "a mode count: no factor of K, about half the memory; docs/component-format.md)")
+                 "dense (small models), lobpcg (large compact solids of second-order tetrahedra, modal "
+                 "reduction by modes or fmax: no factor of K, about half the memory; docs/cli.md)")
       ->check(CLI::IsMember({"spectra", "arpack", "dense", "lobpcg"}));
   app.add_option("--ordering", ordering,
                  "fill-reducing ordering of the sparse factorizations: auto (CHOLMOD's choice: AMD, or METIS "
@@ -239,7 +239,8 @@ int main(int argc, char** argv) {
         // from the component's numbers: name the file, so a batch log of many components points at it.
         const std::string name = std::filesystem::path(component_file).filename().string();
         if (std::string(e.what()).find(name) != std::string::npos) throw;
-        throw Error(component_file + ": " + e.what() + " (check the component's geometry, materials and supports)");
+        throw Error(component_file + ": " + e.what() +
+                    " (check the component's geometry, materials and supports)");
       }
     }();
     bar.reset();

@@ -1,6 +1,7 @@
 // The iterative eigen-solve (condense --eigensolver lobpcg: lobpcg.hpp, p_multigrid.hpp): its modes against
 // CalculiX on the same TET10 mesh, the preconditioner's pieces against their defining properties, and the
-// errors for what it cannot do (fmax, Craig-Bampton, other elements), and a free part's rigid-body modes.
+// errors for what it cannot do (Craig-Bampton, other elements), a free part's rigid-body modes, requests
+// by a band (fmax), and start blocks that make the bases nearly dependent.
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -81,6 +82,31 @@ TEST_F(LobpcgBar, ClampedBarAgainstCalculix) {
   EXPECT_LT(worst_lanczos, 1e-9);  // residuals below 5e-7 give eigenvalues to their square
 }
 
+// A band request (fmax) on the clamped bar: fmax halfway between CalculiX's 14th and 15th frequency; the
+// superelement must hold exactly the 14 modes below it, equal to CalculiX's (the reference) and to the
+// Lanczos solve's fmax request, and name the 15th as the next one above the band.
+TEST_F(LobpcgBar, BandRequestAgainstCalculix) {
+  if (std::system("command -v ccx > /dev/null 2>&1") != 0) GTEST_SKIP() << "ccx (calculix-ccx) not installed";
+  const fs::path inp = write_bar(dir_, true);
+  const std::vector<double> reference = testing::ccx_bar_frequencies(dir_, "EALL", 20);
+  ASSERT_EQ(reference.size(), 20u);
+  Component c = bar_component(inp, true, 0);
+  c.reduction.fmax_hz = 0.5 * (reference[13] + reference[14]);
+  const Superelement lob = condense_component(c, EigenBackend::kLobpcg, kQuiet);
+  const Superelement lanczos = condense_component(c, EigenBackend::kSpectra, kQuiet);
+  ASSERT_EQ(lob.frequency_hz.size(), 14);
+  ASSERT_EQ(lanczos.frequency_hz.size(), 14);
+  double worst_ccx = 0, worst_lanczos = 0;
+  for (int i = 0; i < 14; ++i) {
+    worst_ccx = std::max(worst_ccx, std::abs(lob.frequency_hz(i) / reference[i] - 1.0));
+    worst_lanczos = std::max(worst_lanczos, std::abs(lob.frequency_hz(i) / lanczos.frequency_hz(i) - 1.0));
+  }
+  std::printf("[ lobpcg ] clamped bar up to %.1f Hz: 14 modes, against ccx %.2e, against Lanczos %.2e\n",
+              c.reduction.fmax_hz, worst_ccx, worst_lanczos);
+  EXPECT_LT(worst_ccx, 1e-5);
+  EXPECT_LT(worst_lanczos, 1e-9);
+}
+
 // The prolongation interpolates linearly: a displacement field linear in x, y, z given at the vertices is
 // reproduced exactly at every midside node (the coarse space holds the TET4 fields).
 TEST_F(LobpcgBar, ProlongationReproducesLinearFields) {
@@ -147,15 +173,7 @@ TEST_F(LobpcgBar, BlockProductAndSymmetricPositivePreconditioner) {
 }
 
 // What it cannot do is refused, naming what to give instead.
-TEST_F(LobpcgBar, RefusesFmaxCraigBamptonAndOtherElements) {
-  Component by_fmax = bar_component(write_bar(dir_, true), true, 0);
-  by_fmax.reduction.fmax_hz = 2000.0;
-  try {
-    condense_component(by_fmax, EigenBackend::kLobpcg, kQuiet);
-    ADD_FAILURE() << "an fmax request was accepted";
-  } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("mode count"), std::string::npos) << e.what();
-  }
+TEST_F(LobpcgBar, RefusesCraigBamptonAndOtherElements) {
   Component cb = bar_component(write_bar(dir_, true), true, 4);
   cb.reduction.method = ReductionMethod::kCraigBampton;
   try {
@@ -203,6 +221,15 @@ TEST_F(LobpcgBar, FreeBarLeavesTheRigidBodyModesOut) {
   std::printf("[ lobpcg ] free bar, 12 elastic modes: against shift-invert Lanczos %.2e\n", worst);
   EXPECT_LT(worst, 1e-9);
   EXPECT_LT((lob.mass - Eigen::MatrixXd::Identity(12, 12)).cwiseAbs().maxCoeff(), 1e-12);
+
+  // By a band: fmax halfway between the 8th and 9th elastic mode gives those 8, as the Lanczos solve's.
+  Component band = c;
+  band.reduction.modes = 0;
+  band.reduction.fmax_hz = 0.5 * (lanczos.frequency_hz(7) + lanczos.frequency_hz(8));
+  const Superelement lob_band = condense_component(band, EigenBackend::kLobpcg, kQuiet);
+  ASSERT_EQ(lob_band.frequency_hz.size(), 8);
+  EXPECT_EQ(lob_band.rigid_body_modes_removed, 6);
+  for (int i = 0; i < 8; ++i) EXPECT_NEAR(lob_band.frequency_hz(i) / lanczos.frequency_hz(i), 1.0, 1e-9) << i;
 }
 
 /// The string of n interior nodes fixed at both ends: A = tridiag(-1, 2, -1), M = I, and its linear
@@ -269,6 +296,19 @@ TEST(Lobpcg, NearlyDependentStartBlocksOnTheStringAgainstTheClosedForm) {
       for (int i = 0; i < n; ++i) start(i, k - 1) = x[i] * (1 + 1e-9 * normal(random));
     }
     check(lobpcg(s.a, s.m, t, nev, 1e-8, guard, 200, nullptr, start), "converged start");
+  }
+  {  // a band: every eigenvalue up to halfway between the 20th and the 21st, from a first run that seeks 3
+    const double mu_max = 0.5 * (s.value(20) + s.value(21));
+    const LobpcgResult band = lobpcg_up_to(s.a, s.m, t, mu_max, 3, 1e-8, guard, 200);
+    ASSERT_GE(band.values.size(), 21);
+    EXPECT_EQ((band.values.array() <= mu_max).count(), 20);
+    double worst = 0;
+    for (int k = 1; k <= 21; ++k) worst = std::max(worst, std::abs(band.values[k - 1] / s.value(k) - 1));
+    std::printf("[ lobpcg ] string, band of 20 from a first run of 3: %ld found, worst error %.2e\n",
+                static_cast<long>(band.values.size()), worst);
+    EXPECT_LT(worst, 1e-10);
+    const Eigen::MatrixXd g = band.vectors.transpose() * s.m * band.vectors;
+    EXPECT_LT((g - Eigen::MatrixXd::Identity(g.rows(), g.cols())).cwiseAbs().maxCoeff(), 1e-10);
   }
   {  // columns j and j + m/2 the same random vector, 1e-7 apart
     Block start(n, m);
