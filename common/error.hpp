@@ -3,6 +3,7 @@
 // a model that cannot be solved) is thrown as nvh::Error with a message that says what was expected;
 // when it comes from an input file it also carries the file, line, column and key.
 // The CLIs catch it in main(), print it, and exit with a non-zero code (see ExitCode).
+#include <cstdio>
 #include <stdexcept>
 #include <string>
 
@@ -39,5 +40,12 @@ class Error : public std::runtime_error {
   SourceLocation where_;
   std::string key_;
 };
+
+/// A number for a message, in scientific notation with three significant digits ("1.23e-07").
+inline std::string scientific(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.2e", value);
+  return text;
+}
 
 }  // namespace nvh

@@ -151,11 +151,13 @@ Superelement condense_component(const Component& c, EigenBackend backend, const 
       throw Error(
           "the lobpcg eigensolver is for volume components (second-order tetrahedra); beam models "
           "solve with spectra in a fraction of a second");
-    if (c.reduction.method != ReductionMethod::kModal)
+    // Distributing couplings in multiplier form solve through a factor of K_ii (constrained_factor.hpp).
+    if (c.volume.rbe3_form == DistributingForm::kMultiplier)
       throw Error(
-          "the lobpcg eigensolver works for the modal reduction only: Craig-Bampton and Guyan factorize "
-          "the interior stiffness for their constraint modes anyway (use spectra)",
-          c.reduction.where, "reduction.method");
+          "rbe3_form = \"multiplier\" solves through a factor of the interior stiffness; the lobpcg "
+          "eigensolver "
+          "forms none: use \"elimination\" or \"auto\"",
+          c.volume.where, "volume.rbe3_form");
   }
   Mesh mesh;
   if (volume) {
@@ -164,7 +166,9 @@ Superelement condense_component(const Component& c, EigenBackend backend, const 
              std::to_string(mesh.elements.size()) + " elements from " + c.volume.mesh.filename().string());
     if (timer) timer->lap("mesh");
   }
-  FeModel model = volume ? build_volume_model(c, mesh, c.volume.rbe3_form) : build_beam_model(c);
+  const DistributingForm rbe3_form =
+      backend == EigenBackend::kLobpcg ? DistributingForm::kElimination : c.volume.rbe3_form;
+  FeModel model = volume ? build_volume_model(c, mesh, rbe3_form) : build_beam_model(c);
   // A volume's interfaces are its coupling nodes; a beam's must lie on nodes of the beam.
   const std::vector<int> interface_nodes =
       volume ? model.coupling_nodes : locate(model, c.interfaces, c.point_tolerance, "interface");

@@ -726,7 +726,7 @@ RawModes solve_lobpcg(Pencil& pencil, const EigenRequest& request, EigenResult& 
   {
     // Chebyshev degree 2 and 10 guard vectors: measured best on the plain block at 109k DOF (degree 3: 15
     // iterations instead of 16 and 10 % more time; 6 guards 19 iterations, 16 guards 20 % more time).
-    const PMultigrid preconditioner(pencil.a, space.prolongation, 2, request.ordering);
+    const PMultigrid preconditioner(pencil.a, space.prolongation, 2, request.ordering, space.coarse_only);
     // The start block: the coarse level's own lowest modes (TET4 on the vertices, P^T A P and P^T M P, by
     // shift-invert Lanczos on their small factor, Lanczos tolerance 1e-4), prolonged. Measured on the plain
     // block at 237k DOF: 13 iterations instead of 16 from random vectors, for a coarse eigen-solve of 3.2 s

@@ -152,11 +152,16 @@ Eigen::MatrixXd FeModel::unsupported_rigid_motions() const {
 }
 
 std::vector<int> FeModel::free_index() const {
+  // A dependent DOF of a distributing coupling (elimination form) is a row of T that may hold a coefficient
+  // of exactly 1 too (on its point's translation): it is not a free DOF.
+  std::vector<char> dependent(static_cast<std::size_t>(all_dofs()), 0);
+  for (const LinearConstraint& c : constraints) dependent[static_cast<std::size_t>(c.dof)] = 1;
   std::vector<int> index(all_dofs(), -1);
   for (int col = 0; col < transform.outerSize(); ++col) {
     for (SparseMatrix::InnerIterator it(transform, col); it; ++it) {
       const int node = static_cast<int>(it.row()) / 6;
-      if (master_of[node] == node && it.value() == 1.0) index[it.row()] = col;
+      if (master_of[node] == node && it.value() == 1.0 && !dependent[static_cast<std::size_t>(it.row())])
+        index[it.row()] = col;
     }
   }
   return index;

@@ -76,12 +76,6 @@ std::pair<Eigen::Index, double> svqb(Block& b, Block& mb, Block& ab, Block& scra
   return {kept, theta[theta.size() - 1] / theta[first]};
 }
 
-std::string scientific(double value) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.2e", value);
-  return text;
-}
-
 /// The M-norm of each column of b (mb = M b), in one pass over the rows.
 Eigen::VectorXd column_norms(const Block& b, const Block& mb) {
   Eigen::ArrayXd sum = Eigen::ArrayXd::Zero(b.cols());

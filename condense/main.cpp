@@ -136,8 +136,8 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"modal", "craig-bampton", "guyan"}));
   app.add_option("--eigensolver", eigensolver,
                  "eigen-solver backend: spectra (shift-invert Lanczos, default), arpack (for comparison), "
-                 "dense (small models), lobpcg (large compact solids of second-order tetrahedra, modal "
-                 "reduction by modes or fmax: no factor of K, about half the memory; docs/cli.md)")
+                 "dense (small models), lobpcg (large compact solids of second-order tetrahedra, any "
+                 "reduction, by modes or fmax: no factor of K, about half the memory; docs/cli.md)")
       ->check(CLI::IsMember({"spectra", "arpack", "dense", "lobpcg"}));
   app.add_option("--ordering", ordering,
                  "fill-reducing ordering of the sparse factorizations: auto (CHOLMOD's choice: AMD, or METIS "

@@ -37,10 +37,18 @@ struct CoarseSpace {
   SparseMatrix prolongation;
   /// A free part's rigid-body motions on the free DOF (new numbering), one column each; none if supported.
   Eigen::MatrixXd rigid_modes;
+  /// Rows (new numbering) that are coarse DOF themselves and that the smoother leaves to the coarse level:
+  /// those of distributing couplings in elimination form (see tet10_vertex_space).
+  std::vector<int> coarse_only;
 };
 
 /// nvh::Error if an element is not C3D10 (the coarse space is their vertices).
 CoarseSpace tet10_vertex_space(const Mesh& mesh, const FeModel& model);
+
+/// The coarse space of the DOF `kept` (indices into the model's free DOF, ascending; the others held, as the
+/// interface of Craig-Bampton holds its boundary): their rows, renumbered along the same Z-order; a vertex
+/// DOF that is not kept contributes nothing, like a support. No rigid-body modes (the held DOF restrain).
+CoarseSpace restricted_space(const CoarseSpace& space, const std::vector<int>& kept);
 
 class PMultigrid {
  public:
@@ -50,9 +58,10 @@ class PMultigrid {
   };
 
   /// `a`: the symmetric positive definite A stored whole, in the prolongation's numbering; `degree`: of
-  /// each Chebyshev smoothing (before and after the coarse correction). nvh::Error if P^T A P is not
-  /// positive definite.
-  PMultigrid(const SparseMatrix& a, const SparseMatrix& prolongation, int degree, Ordering ordering);
+  /// each Chebyshev smoothing (before and after the coarse correction); `coarse_only`: rows the smoother
+  /// leaves alone (CoarseSpace::coarse_only). nvh::Error if P^T A P is not positive definite.
+  PMultigrid(const SparseMatrix& a, const SparseMatrix& prolongation, int degree, Ordering ordering,
+             const std::vector<int>& coarse_only = {});
 
   /// x = T r, T ~ A^-1 symmetric positive definite.
   void apply(const Block& r, Block& x, const Workspace& ws) const;

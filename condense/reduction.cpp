@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "common/error.hpp"
+#include "condense/block_pcg.hpp"
 #include "condense/static_solve.hpp"
 
 namespace nvh::condense {
@@ -398,6 +399,28 @@ FrfErrorEstimate craig_bampton_frf_error(const ReductionInput& in, const std::ve
   return e;
 }
 
+/// The constraint modes Psi = -K_ii^-1 K_ib without a factor of K_ii: block PCG (block_pcg.hpp) to a
+/// relative residual of 1e-10 per column, preconditioned by the two-grid cycle (p_multigrid.hpp) on the
+/// interior's coarse space `space`, in its Z-order numbering. `factor`: the coarse factor's costs.
+Eigen::MatrixXd iterative_constraint_modes(const SparseMatrix& kii, const SparseMatrix& kib,
+                                           const CoarseSpace& space, Ordering ordering, FactorStats& factor,
+                                           int& iterations) {
+  Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> renumbering(kii.rows());
+  std::copy(space.new_index.begin(), space.new_index.end(), renumbering.indices().data());
+  SparseMatrix whole;
+  {
+    SparseMatrix twisted;
+    twisted = kii.selfadjointView<Eigen::Lower>().twistedBy(renumbering);
+    whole = twisted.transpose();  // sorted (symmetric_block_product needs both triangles, sorted)
+  }
+  const PMultigrid preconditioner(whole, space.prolongation, 2, ordering, space.coarse_only);
+  const Block rhs = -(renumbering * Eigen::MatrixXd(kib));
+  const BlockPcgResult x = block_pcg(whole, preconditioner, rhs, 1e-10);
+  factor = preconditioner.coarse_factor_stats();
+  iterations = x.iterations;
+  return renumbering.inverse() * Eigen::MatrixXd(x.x);
+}
+
 /// Residual vectors of load points for Craig-Bampton (Nastran's RESVEC; Craig & Kurdila, Fundamentals of
 /// Structural Dynamics, 2nd ed. 2006, sec. 17.4, the residual flexibility of attachment modes, here with the
 /// interface held):
@@ -488,7 +511,26 @@ ReducedModel craig_bampton(const ReductionInput& in, bool with_fixed_interface_m
   Eigen::MatrixXd psi(ni, nb);
   FactorStats factor;
   std::shared_ptr<ConstrainedFactor> chol;
-  if (ni > 0) {
+  // --eigensolver lobpcg: no factor of K_ii. The constraint modes by block PCG and the fixed-interface modes
+  // by LOBPCG, both preconditioned by the two-grid cycle on the interior's coarse space (the boundary DOF
+  // held). The error estimate (band) and the residual vectors of load points solve with K_ii many times:
+  // with them K_ii is factored as for the other eigensolvers.
+  const bool wants_factor = s.band_hz > 0.0 || in.residual_loads.cols() > 0;
+  const bool iterative = in.backend == EigenBackend::kLobpcg && ni > 0 && !wants_factor;
+  std::shared_ptr<const CoarseSpace> interior_space;
+  int pcg_iterations = 0;
+  if (iterative) {
+    if (constrained || !in.coarse_space)
+      throw Error("internal: the lobpcg eigensolver needs a coarse space and couplings in elimination form");
+    interior_space = std::make_shared<const CoarseSpace>(restricted_space(*in.coarse_space, i_dofs));
+    psi = iterative_constraint_modes(Kii, Kib, *interior_space, in.ordering, factor, pcg_iterations);
+    log.detail(to_string(s.method) + ": " + std::to_string(nb) + " constraint modes by PCG in " +
+               std::to_string(pcg_iterations) + " iterations");
+  } else if (ni > 0) {
+    if (in.backend == EigenBackend::kLobpcg)
+      log.info(to_string(s.method) + ": " +
+               (s.band_hz > 0.0 ? "the error estimate (band)" : "residual vectors") +
+               " factor K_ii: the fixed-interface modes by shift-invert Lanczos on that factor, not lobpcg");
     chol = std::make_shared<ConstrainedFactor>(in.ordering);
     std::vector<int> rows(static_cast<std::size_t>(in.constraints.rows()));
     for (std::size_t k = 0; k < rows.size(); ++k) rows[k] = static_cast<int>(k);
@@ -518,7 +560,12 @@ ReducedModel craig_bampton(const ReductionInput& in, bool with_fixed_interface_m
   Eigen::VectorXd fixed_lambda;
   if (with_fixed_interface_modes && ni > 0) {
     EigenRequest request = request_for(s, 0, in);
-    request.stiffness_factor = chol;
+    if (iterative) {
+      request.coarse_space = interior_space;
+    } else {
+      request.stiffness_factor = chol;
+      if (request.backend == EigenBackend::kLobpcg) request.backend = EigenBackend::kSpectra;
+    }
     const EigenResult eig = solve_eigenproblem(std::move(Kii), submatrix(M, i_dofs, i_dofs), request);
     if (eig.eigenvalues.size() == 0) {
       throw Error("fmax = " + hz(s.fmax_hz) + " is below the first fixed-interface mode (" +

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <array>
 #include <cstdlib>
 #include <filesystem>
@@ -340,6 +341,25 @@ TEST_F(CoupledBar, CraigBamptonOnDistributingCouplings) {
   }
   std::printf("[ RBE3 bar ] Craig-Bampton, %d coordinates: worst of the 10 lowest %.2e\n", reduced.size(),
               worst);
+}
+
+// free_index() in elimination form: a distributing coupling's dependent surface DOF is a row of T that can
+// hold a coefficient of exactly 1 (its point's translation); it must not be taken for a free DOF. Every free
+// column has exactly one nodal DOF, and no dependent DOF has one (before the fix, two columns had two, and
+// the iterative eigen-solve's renumbering overran its array).
+TEST_F(CoupledBar, FreeIndexInEliminationFormIsOneToOne) {
+  Component c = bar();
+  for (NamedPoint& p : c.interfaces) p.distributing = true;
+  c.reduction.method = ReductionMethod::kModal;
+  c.reduction.modes = 4;
+  const FeModel model = build_volume_model(c, DistributingForm::kElimination);
+  ASSERT_EQ(model.constraints.size(), 12u);  // six dependent DOF per coupling
+  const std::vector<int> free = model.free_index();
+  std::vector<int> owners(static_cast<std::size_t>(model.free_dofs()), 0);
+  for (int f : free)
+    if (f >= 0) ++owners[static_cast<std::size_t>(f)];
+  EXPECT_EQ(std::count(owners.begin(), owners.end(), 1), model.free_dofs());
+  for (const LinearConstraint& dependent : model.constraints) EXPECT_EQ(free[dependent.dof], -1);
 }
 
 TEST_F(CoupledBar, HoldingTheCouplingNodeClampsTheWholeFace) {
