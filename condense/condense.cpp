@@ -400,7 +400,7 @@ Superelement condense_component(const Component& c, EigenBackend backend, const 
   se.factor_seconds = r.factor.factor_seconds;
   se.eigen_seconds = r.eigen_seconds;
   se.eigen_solves = r.eigen_solves;
-  se.eigensolver = to_string(backend);
+  se.eigensolver = to_string(r.backend);  // lobpcg may have handed the fixed-interface modes to spectra
   se.reduction_error.estimate = r.frf_error;
   se.reduction_error.tolerance = c.reduction.frf_tolerance;
   se.reduction_error.cutoff_hz = r.cutoff_hz;

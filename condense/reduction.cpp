@@ -280,6 +280,7 @@ ReducedModel modal_reduction(ReductionInput& in, const Logger& log) {
   r.factor = eig.factor;
   r.eigen_seconds = eig.iteration_seconds;
   r.eigen_solves = eig.matrix_operations;
+  r.backend = in.backend;
   log.detail("modal: " + std::to_string(m) + " elastic modes, " + hz(r.frequency_hz(0)) + " .. " +
              hz(r.frequency_hz(m - 1)));
   if (!s.residual_modes) {
@@ -605,6 +606,7 @@ ReducedModel craig_bampton(const ReductionInput& in, bool with_fixed_interface_m
   r.factor = factor;
   r.eigen_seconds = eigen_seconds;
   r.eigen_solves = eigen_solves;
+  r.backend = in.backend == EigenBackend::kLobpcg && !iterative ? EigenBackend::kSpectra : in.backend;
   r.basis = Eigen::MatrixXd::Zero(n, nb + nm + nx);
   for (int j = 0; j < nb; ++j) r.basis(b[j], j) = 1.0;
   for (int i = 0; i < ni; ++i) {

@@ -80,6 +80,9 @@ struct ReducedModel {
   double eigen_seconds = 0.0;
   /// Solves with the factorization in the eigen-solves (each streams the whole factor).
   int eigen_solves = 0;
+  /// The eigensolver that found the modes: the one asked for, except that a lobpcg Craig-Bampton with an
+  /// error estimate or residual vectors factors K_ii and finds them by spectra on that factor.
+  EigenBackend backend = EigenBackend::kSpectra;
   /// With settings.band_hz: the estimated receptance error at the interfaces in the band.
   FrfErrorEstimate frf_error;
   /// The cut-off of the kept modes, Hz: fmax as given or chosen from the band (0: a count was given).

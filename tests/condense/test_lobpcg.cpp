@@ -302,6 +302,12 @@ TEST_F(LobpcgBar, CraigBamptonAndGuyanWithoutAFactor) {
         static_cast<long>(lob.frequency_hz.size()), worst_ccx, worst_same);
     EXPECT_LT(worst_ccx, 1e-3);
   }
+  // With an error estimate (band) K_ii is factored anyway and the fixed-interface modes come from the
+  // Lanczos solve on that factor: the file says which eigensolver found them.
+  EXPECT_EQ(lob.eigensolver, "lobpcg");
+  Component banded = c;
+  banded.reduction.band_hz = lanczos_full.frequency_hz(4);
+  EXPECT_EQ(condense_component(banded, EigenBackend::kLobpcg, kQuiet).eigensolver, "spectra");
   // Guyan: the static condensation on the 12 boundary DOF, exact whatever solves K_ii.
   c.reduction.method = ReductionMethod::kGuyan;
   const Superelement guyan_lob = condense_component(c, EigenBackend::kLobpcg, kQuiet);
