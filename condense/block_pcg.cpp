@@ -7,17 +7,6 @@
 #include "common/error.hpp"
 
 namespace nvh::condense {
-namespace {
-
-/// Per column j: the sum over the rows of x(i, j) y(i, j), in one pass over the rows (row-major blocks).
-Eigen::ArrayXd column_dots(const Block& x, const Block& y) {
-  Eigen::ArrayXd sum = Eigen::ArrayXd::Zero(x.cols());
-  for (Eigen::Index i = 0; i < x.rows(); ++i) sum += (x.row(i).array() * y.row(i).array()).transpose();
-  return sum;
-}
-
-}  // namespace
-
 BlockPcgResult block_pcg(const SparseMatrix& a, const PMultigrid& preconditioner, const Block& b,
                          double tolerance, int max_iterations) {
   const Eigen::Index n = b.rows(), k = b.cols();

@@ -717,16 +717,15 @@ RawModes solve_lobpcg(Pencil& pencil, const EigenRequest& request, EigenResult& 
   // back to the pencil as lower triangles in the model's numbering afterwards. twistedBy leaves each
   // column's rows unsorted; a transpose sorts them.
   for (SparseMatrix* a : {&pencil.a, &pencil.m}) {
-    SparseMatrix whole;
-    whole = a->selfadjointView<Eigen::Lower>().twistedBy(renumbering);
-    SparseMatrix().swap(*a);  // give the storage back now (release() in fe_model.hpp)
-    *a = whole.transpose();   // = whole (symmetric), sorted
+    SparseMatrix whole = renumbered_whole(std::move(*a), space.new_index);
+    a->swap(whole);
   }
   LobpcgResult found;
   {
-    // Chebyshev degree 2 and 10 guard vectors: measured best on the plain block at 109k DOF (degree 3: 15
-    // iterations instead of 16 and 10 % more time; 6 guards 19 iterations, 16 guards 20 % more time).
-    const PMultigrid preconditioner(pencil.a, space.prolongation, 2, request.ordering, space.coarse_only);
+    // 10 guard vectors: measured best on the plain block at 109k DOF (6 guards 19 iterations instead of 16,
+    // 16 guards 20 % more time).
+    const PMultigrid preconditioner(pencil.a, space.prolongation, PMultigrid::kDegree, request.ordering,
+                                    space.coarse_only);
     // The start block: the coarse level's own lowest modes (TET4 on the vertices, P^T A P and P^T M P, by
     // shift-invert Lanczos on their small factor, Lanczos tolerance 1e-4), prolonged. Measured on the plain
     // block at 237k DOF: 13 iterations instead of 16 from random vectors, for a coarse eigen-solve of 3.2 s

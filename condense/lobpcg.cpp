@@ -76,13 +76,6 @@ std::pair<Eigen::Index, double> svqb(Block& b, Block& mb, Block& ab, Block& scra
   return {kept, theta[theta.size() - 1] / theta[first]};
 }
 
-/// The M-norm of each column of b (mb = M b), in one pass over the rows.
-Eigen::VectorXd column_norms(const Block& b, const Block& mb) {
-  Eigen::ArrayXd sum = Eigen::ArrayXd::Zero(b.cols());
-  for (Eigen::Index i = 0; i < b.rows(); ++i) sum += (b.row(i).array() * mb.row(i).array()).transpose();
-  return sum.cwiseMax(0).sqrt().matrix();
-}
-
 }  // namespace
 
 LobpcgResult lobpcg(const SparseMatrix& a, const SparseMatrix& m_mass, const PMultigrid& preconditioner,
@@ -177,7 +170,7 @@ LobpcgResult lobpcg(const SparseMatrix& a, const SparseMatrix& m_mass, const PMu
     if (condition > 1e6) kw = svqb(w, mw, aw, s1).first;  // a second pass restores orthonormality
     bool with_p = p.cols() > 0;
     if (with_p) {  // P against X and W, then orthonormal; its cancelled directions dropped
-      const Eigen::VectorXd before = column_norms(p, mp);
+      const Eigen::VectorXd before = column_dots(p, mp).cwiseMax(0).sqrt().matrix();  // M-norms
       const Eigen::MatrixXd cx = gram(mx, p), cw = gram(mw, p);
       for (auto [pb, xb, wb] :
            {std::tuple{&p, &x, &w}, std::tuple{&ap, &ax, &aw}, std::tuple{&mp, &mx, &mw}}) {

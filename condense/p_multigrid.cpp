@@ -179,6 +179,21 @@ CoarseSpace tet10_vertex_space(const Mesh& mesh, const FeModel& model) {
   return space;
 }
 
+Eigen::ArrayXd column_dots(const Block& x, const Block& y) {
+  Eigen::ArrayXd sum = Eigen::ArrayXd::Zero(x.cols());
+  for (Eigen::Index i = 0; i < x.rows(); ++i) sum += (x.row(i).array() * y.row(i).array()).transpose();
+  return sum;
+}
+
+SparseMatrix renumbered_whole(SparseMatrix&& a, const std::vector<int>& new_index) {
+  Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> renumbering(a.rows());
+  std::copy(new_index.begin(), new_index.end(), renumbering.indices().data());
+  SparseMatrix twisted;
+  twisted = a.selfadjointView<Eigen::Lower>().twistedBy(renumbering);
+  SparseMatrix().swap(a);      // give the storage back now (release() in fe_model.hpp)
+  return twisted.transpose();  // = twisted (symmetric), each column's rows sorted
+}
+
 CoarseSpace restricted_space(const CoarseSpace& space, const std::vector<int>& kept) {
   const std::size_t n = space.new_index.size();
   std::vector<char> is_kept(n, 0);

@@ -408,13 +408,9 @@ Eigen::MatrixXd iterative_constraint_modes(const SparseMatrix& kii, const Sparse
                                            int& iterations) {
   Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> renumbering(kii.rows());
   std::copy(space.new_index.begin(), space.new_index.end(), renumbering.indices().data());
-  SparseMatrix whole;
-  {
-    SparseMatrix twisted;
-    twisted = kii.selfadjointView<Eigen::Lower>().twistedBy(renumbering);
-    whole = twisted.transpose();  // sorted (symmetric_block_product needs both triangles, sorted)
-  }
-  const PMultigrid preconditioner(whole, space.prolongation, 2, ordering, space.coarse_only);
+  const SparseMatrix whole = renumbered_whole(SparseMatrix(kii), space.new_index);
+  const PMultigrid preconditioner(whole, space.prolongation, PMultigrid::kDegree, ordering,
+                                  space.coarse_only);
   const Block rhs = -(renumbering * Eigen::MatrixXd(kib));
   const BlockPcgResult x = block_pcg(whole, preconditioner, rhs, 1e-10);
   factor = preconditioner.coarse_factor_stats();
