@@ -48,11 +48,12 @@ struct Options {
 };
 
 void usage(std::ostream& out) {
-  out << "usage: bench_condense_beam [--elements N] [--modes M] [--backend spectra|arpack] [--export DIR]\n"
+  out << "usage: bench_condense_beam [--elements N] [--modes M] [--backend spectra|block-lanczos|arpack] "
+         "[--export DIR]\n"
          "                           [--solve-only]\n"
          "  --elements N   beam elements (default 10000; rounded to a multiple of 100 segments)\n"
          "  --modes M      elastic modes to keep (default 200)\n"
-         "  --backend B    eigen-solver backend: spectra (default) or arpack\n"
+         "  --backend B    eigen-solver backend: spectra (default), block-lanczos or arpack\n"
          "  --export DIR   write K.mtx, M.mtx (free DOF, Matrix Market) and bench.json (shift, our\n"
          "                 frequencies and time) for bench/peer_scipy_eigsh.py\n"
          "  --solve-only   stop after the bare eigen-solve (skip the modal and Craig-Bampton pipelines)\n";
@@ -72,7 +73,8 @@ Options parse(int argc, char** argv) {
       o.modes = std::stoi(value());
     } else if (a == "--backend") {
       const std::string b = value();
-      if (b != "spectra" && b != "arpack") throw Error("--backend must be spectra or arpack, got " + b);
+      if (b != "spectra" && b != "block-lanczos" && b != "arpack")
+        throw Error("--backend must be spectra, block-lanczos or arpack, got " + b);
       o.backend = parse_eigen_backend(b);
     } else if (a == "--export") {
       o.export_dir = value();

@@ -150,7 +150,7 @@ Superelement condense_component(const Component& c, EigenBackend backend, const 
     if (!volume)
       throw Error(
           "the lobpcg eigensolver is for volume components (second-order tetrahedra); beam models "
-          "solve with spectra in a fraction of a second");
+          "solve with block-lanczos (the default) in a fraction of a second");
     // Distributing couplings in multiplier form solve through a factor of K_ii (constrained_factor.hpp).
     if (c.volume.rbe3_form == DistributingForm::kMultiplier)
       throw Error(
@@ -400,7 +400,7 @@ Superelement condense_component(const Component& c, EigenBackend backend, const 
   se.factor_seconds = r.factor.factor_seconds;
   se.eigen_seconds = r.eigen_seconds;
   se.eigen_solves = r.eigen_solves;
-  se.eigensolver = to_string(r.backend);  // lobpcg may have handed the fixed-interface modes to spectra
+  se.eigensolver = to_string(r.backend);  // lobpcg may have handed the fixed-interface modes to the factor
   se.reduction_error.estimate = r.frf_error;
   se.reduction_error.tolerance = c.reduction.frf_tolerance;
   se.reduction_error.cutoff_hz = r.cutoff_hz;

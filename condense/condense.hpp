@@ -18,7 +18,7 @@ struct CondenseOptions {
   std::optional<int> modes;       ///< replaces modes and clears fmax
   std::optional<ReductionMethod> method;
   std::optional<double> band_hz;  ///< replaces band (Hz)
-  EigenBackend backend = EigenBackend::kSpectra;
+  EigenBackend backend = EigenBackend::kBlockLanczos;
   Ordering ordering = Ordering::kAuto;
 };
 

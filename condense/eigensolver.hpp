@@ -4,6 +4,8 @@
 // positive definite. Units: K in N/m (N m/rad), M in kg (kg m^2), lambda in rad^2/s^2.
 //
 // Backends:
+// - kBlockLanczos (default): shift-invert block Lanczos (block_lanczos.hpp) on the factorization below,
+//   a block of 6-12 vectors per solve (one reading of the factor for all of them).
 // - kSpectra: shift-invert Lanczos (Spectra::SymGEigsShiftSolver) on a CHOLMOD supernodal Cholesky
 //   factorization of K - sigma M with a negative shift sigma, so a singular (free-free) K factorizes and
 //   the rigid-body modes (lambda = 0) are found like any other.
@@ -27,14 +29,15 @@ namespace nvh::condense {
 
 using SparseMatrix = Eigen::SparseMatrix<double>;  // column-major
 
-enum class EigenBackend { kSpectra, kArpack, kDense, kLobpcg };
+enum class EigenBackend { kSpectra, kArpack, kDense, kLobpcg, kBlockLanczos };
 
 /// Progress of an iterative solve: solves with the factorization done in the current Lanczos run, and
 /// the number a run without restarts needs (its basis size). Called every few solves; the library
 /// never prints, the caller decides (the CLI draws nvh::Progress).
 using EigenProgress = std::function<void(int done, int expected)>;
 
-/// Parse "spectra" | "arpack" | "dense" | "lobpcg"; nvh::Error listing the choices otherwise.
+/// Parse "block-lanczos" | "spectra" | "arpack" | "dense" | "lobpcg"; nvh::Error listing the choices
+/// otherwise.
 EigenBackend parse_eigen_backend(const std::string& name);
 std::string to_string(EigenBackend backend);
 
@@ -44,7 +47,7 @@ struct EigenRequest {
   /// Shift sigma (rad^2/s^2, must be < 0). 0 = automatic: -(2 pi f_s)^2 with f_s = max(1 Hz, fmax/100),
   /// or from the matrices' diagonal when only `modes` is given.
   double shift = 0.0;
-  EigenBackend backend = EigenBackend::kSpectra;
+  EigenBackend backend = EigenBackend::kBlockLanczos;
   double tolerance = 1e-10;  ///< convergence tolerance of the Lanczos iteration
   /// Accept a mode if ||K x - lambda M x|| / (||K x|| + |lambda| ||M x|| + sqrt(eps) ||K||_1 ||x||) <= limit
   /// (the last term, the round-off floor of K x, keeps rigid modes - K x and lambda both round-off - from

@@ -111,7 +111,7 @@ int main(int argc, char** argv) {
   if (argc > 1 && std::string_view(argv[1]) == "export") return run_export_command(argc - 1, argv + 1);
   CLI::App app{kDescription, "condense"};
   app.get_formatter()->column_width(34);
-  std::string component_file, output_file, method, eigensolver = "spectra";
+  std::string component_file, output_file, method, eigensolver = "block-lanczos";
   std::optional<double> fmax;
   std::optional<int> modes;
   std::optional<double> band;
@@ -134,11 +134,14 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   app.add_option("--method", method, "reduction method (overrides [reduction] method)")
       ->check(CLI::IsMember({"modal", "craig-bampton", "guyan"}));
-  app.add_option("--eigensolver", eigensolver,
-                 "eigen-solver backend: spectra (shift-invert Lanczos, default), arpack (for comparison), "
-                 "dense (small models), lobpcg (large compact solids of second-order tetrahedra, any "
-                 "reduction, by modes or fmax: no factor of K, about half the memory; docs/cli.md)")
-      ->check(CLI::IsMember({"spectra", "arpack", "dense", "lobpcg"}));
+  app.add_option(
+         "--eigensolver", eigensolver,
+         "eigen-solver backend: block-lanczos (shift-invert Lanczos a block of columns at a time, "
+         "default: one solve with the factor serves several vectors), spectra (the same one vector at "
+         "a time), arpack (for comparison), dense (small models), lobpcg (large compact solids of "
+         "second-order tetrahedra, any "
+         "reduction, by modes or fmax: no factor of K, about half the memory; docs/cli.md)")
+      ->check(CLI::IsMember({"spectra", "block-lanczos", "arpack", "dense", "lobpcg"}));
   app.add_option("--ordering", ordering,
                  "fill-reducing ordering of the sparse factorizations: auto (CHOLMOD's choice: AMD, or METIS "
                  "when AMD fills much; default), amd, metis, nesdis")

@@ -123,7 +123,7 @@ FrfErrorEstimate modal_frf_error(const SparseMatrix& K, const SparseMatrix& M, c
     request.fmax_hz = 1.25 * s.band_hz;
     request.progress = {};
     // An fmax request: LOBPCG takes counts only, and the estimate factorizes K - sigma M anyway (below).
-    if (request.backend == EigenBackend::kLobpcg) request.backend = EigenBackend::kSpectra;
+    if (request.backend == EigenBackend::kLobpcg) request.backend = EigenBackend::kBlockLanczos;
     extra = solve_eigenproblem(SparseMatrix(K), SparseMatrix(M), request);
     deflation = &extra;
   }
@@ -353,7 +353,7 @@ FrfErrorEstimate craig_bampton_frf_error(const ReductionInput& in, const std::ve
     request.fmax_hz = 1.25 * s.band_hz;
     request.progress = {};
     // An fmax request: LOBPCG takes counts only, and the estimate factorizes K - sigma M anyway (below).
-    if (request.backend == EigenBackend::kLobpcg) request.backend = EigenBackend::kSpectra;
+    if (request.backend == EigenBackend::kLobpcg) request.backend = EigenBackend::kBlockLanczos;
     request.stiffness_factor = kii_factor;
     EigenResult eig = solve_eigenproblem(SparseMatrix(Kii), SparseMatrix(Mii), request);
     bound = deflation_bound(eig, true);
@@ -561,7 +561,7 @@ ReducedModel craig_bampton(const ReductionInput& in, bool with_fixed_interface_m
       request.coarse_space = interior_space;
     } else {
       request.stiffness_factor = chol;
-      if (request.backend == EigenBackend::kLobpcg) request.backend = EigenBackend::kSpectra;
+      if (request.backend == EigenBackend::kLobpcg) request.backend = EigenBackend::kBlockLanczos;
     }
     const EigenResult eig = solve_eigenproblem(std::move(Kii), submatrix(M, i_dofs, i_dofs), request);
     if (eig.eigenvalues.size() == 0) {
@@ -602,7 +602,7 @@ ReducedModel craig_bampton(const ReductionInput& in, bool with_fixed_interface_m
   r.factor = factor;
   r.eigen_seconds = eigen_seconds;
   r.eigen_solves = eigen_solves;
-  r.backend = in.backend == EigenBackend::kLobpcg && !iterative ? EigenBackend::kSpectra : in.backend;
+  r.backend = in.backend == EigenBackend::kLobpcg && !iterative ? EigenBackend::kBlockLanczos : in.backend;
   r.basis = Eigen::MatrixXd::Zero(n, nb + nm + nx);
   for (int j = 0; j < nb; ++j) r.basis(b[j], j) = 1.0;
   for (int i = 0; i < ni; ++i) {

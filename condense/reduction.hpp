@@ -41,7 +41,7 @@ struct ReductionInput {
   std::vector<std::string> boundary_names;  ///< one per boundary DOF, e.g. "main1.rx"
   int rigid_body_modes = 0;                 ///< how many zero-frequency modes the unsupported model has
   ReductionSettings settings;
-  EigenBackend backend = EigenBackend::kSpectra;
+  EigenBackend backend = EigenBackend::kBlockLanczos;
   /// kLobpcg: its preconditioner's coarse space (volume components of C3D10 elements); see eigensolver.hpp.
   std::shared_ptr<const CoarseSpace> coarse_space;
   EigenProgress progress;               ///< optional, handed to the eigen-solves
@@ -82,7 +82,7 @@ struct ReducedModel {
   int eigen_solves = 0;
   /// The eigensolver that found the modes: the one asked for, except that a lobpcg Craig-Bampton with an
   /// error estimate or residual vectors factors K_ii and finds them by spectra on that factor.
-  EigenBackend backend = EigenBackend::kSpectra;
+  EigenBackend backend = EigenBackend::kBlockLanczos;
   /// With settings.band_hz: the estimated receptance error at the interfaces in the band.
   FrfErrorEstimate frf_error;
   /// The cut-off of the kept modes, Hz: fmax as given or chosen from the band (0: a count was given).

@@ -132,9 +132,13 @@ double max_relative_error(const EigenResult& r, const std::vector<double>& refer
 class Backends : public ::testing::TestWithParam<EigenBackend> {};
 
 INSTANTIATE_TEST_SUITE_P(EigenSolver, Backends,
-                         ::testing::Values(EigenBackend::kSpectra, EigenBackend::kArpack,
-                                           EigenBackend::kDense),
-                         [](const auto& info) { return to_string(info.param); });
+                         ::testing::Values(EigenBackend::kSpectra, EigenBackend::kBlockLanczos,
+                                           EigenBackend::kArpack, EigenBackend::kDense),
+                         [](const auto& info) {
+                           std::string name = to_string(info.param);
+                           std::replace(name.begin(), name.end(), '-', '_');  // gtest names: [A-Za-z0-9_]
+                           return name;
+                         });
 
 int chain_size(EigenBackend backend) {
   return backend == EigenBackend::kDense ? 300 : 2000;
@@ -173,6 +177,7 @@ TEST(EigenSolver, ProgressFollowsTheLanczosRun) {
   const Problem p = chain(2000, false);
   EigenRequest request;
   request.modes = 30;
+  request.backend = EigenBackend::kSpectra;
   std::vector<std::pair<int, int>> calls;
   request.progress = [&](int done, int expected) { calls.emplace_back(done, expected); };
   const EigenResult r = solve_eigenproblem(p.K, p.M, request);
@@ -185,6 +190,26 @@ TEST(EigenSolver, ProgressFollowsTheLanczosRun) {
   EXPECT_EQ(calls[0].second, 30 + 20 + 1 + 20);
   EXPECT_LE(calls.back().first, r.matrix_operations);
   EXPECT_GT(calls.back().first, r.matrix_operations - 8);  // reported every 8 solves
+}
+
+TEST(EigenSolver, ProgressFollowsTheBlockLanczosRun) {
+  // The block solver (the default) on the same chain: blocks of 6, a basis of 30 + 11 x 6 = 96; the
+  // count expected is the basis, the start and one restart (96 - 30), as for Spectra; the callback is
+  // called every 8 solves or at the next block's end, with increasing counts up to the total reported.
+  const Problem p = chain(2000, false);
+  EigenRequest request;
+  request.modes = 30;
+  std::vector<std::pair<int, int>> calls;
+  request.progress = [&](int done, int expected) { calls.emplace_back(done, expected); };
+  const EigenResult r = solve_eigenproblem(p.K, p.M, request);
+  ASSERT_GE(calls.size(), 3u);
+  EXPECT_EQ(calls[0].second, 96 + 1 + 66);
+  for (std::size_t i = 1; i < calls.size(); ++i) {
+    EXPECT_GT(calls[i].first, calls[i - 1].first);
+    EXPECT_GE(calls[i].second, calls[i - 1].second);  // grows only past a restart beyond the first
+  }
+  EXPECT_LE(calls.back().first, r.matrix_operations);
+  EXPECT_GT(calls.back().first, r.matrix_operations - 8);
 }
 
 TEST_P(Backends, FreeFreeChainRigidMode) {
@@ -351,7 +376,8 @@ TEST_P(Backends, MoreModesThanDegreesOfFreedom) {
 }
 
 TEST(EigenSolver, BackendNamesAndUnits) {
-  for (EigenBackend b : {EigenBackend::kSpectra, EigenBackend::kArpack, EigenBackend::kDense}) {
+  for (EigenBackend b : {EigenBackend::kSpectra, EigenBackend::kBlockLanczos, EigenBackend::kArpack,
+                         EigenBackend::kDense, EigenBackend::kLobpcg}) {
     EXPECT_EQ(parse_eigen_backend(to_string(b)), b);
   }
   EXPECT_THROW(parse_eigen_backend("lapack"), Error);
@@ -374,7 +400,7 @@ TEST_P(Backends, LowerTrianglesGiveTheSameModes) {
   SparseMatrix k_lower = p.K.triangularView<Eigen::Lower>();
   SparseMatrix m_lower = p.M.triangularView<Eigen::Lower>();
   const EigenResult lower = solve_eigenproblem(std::move(k_lower), std::move(m_lower), request);
-  EXPECT_EQ(k_lower.nonZeros(), 0);  // given back
+  EXPECT_EQ(k_lower.nonZeros(), 0);                                                 // given back
   EXPECT_LT(std::abs(lower.eigenvalues[0]) / chain_eigenvalues(n, true)[1], 1e-8);  // the rigid mode
   EXPECT_LT(max_relative_error(lower, chain_eigenvalues(n, true), 1), 1e-9);
   EXPECT_LT(max_orthonormality_error(lower, p.M), 1e-10);

@@ -157,7 +157,7 @@ TEST(FrfError, CraigBamptonEstimateEqualsIndependentError) {
     Component c = cantilever();
     c.reduction.fmax_hz = fmax;
     c.reduction.band_hz = 1000.0;
-    const Superelement se = condense_component(c, EigenBackend::kSpectra, kQuiet);
+    const Superelement se = condense_component(c, EigenBackend::kBlockLanczos, kQuiet);
     const FrfErrorEstimate& e = se.reduction_error.estimate;
     ASSERT_FALSE(e.empty());
     ASSERT_EQ(e.points.size(), 1u);
@@ -185,7 +185,7 @@ TEST(FrfError, CutoffChosenFromBandMeetsTolerance) {
     c.reduction.band_hz = 1000.0;
     c.reduction.frf_tolerance = tolerance;
     check_reduction(c);
-    const Superelement se = condense_component(c, EigenBackend::kSpectra, kQuiet);
+    const Superelement se = condense_component(c, EigenBackend::kBlockLanczos, kQuiet);
     const ReductionErrorRecord& rec = se.reduction_error;
     ASSERT_FALSE(rec.passes.empty());
     EXPECT_LE(rec.estimate.max_error(), tolerance);
@@ -220,7 +220,7 @@ TEST(FrfError, ModalFreeFreeWithAndWithoutResidualModes) {
     c.reduction.fmax_hz = 1500.0;
     c.reduction.band_hz = 1000.0;
     c.reduction.residual_modes = with == 1;
-    const Superelement se = condense_component(c, EigenBackend::kSpectra, kQuiet);
+    const Superelement se = condense_component(c, EigenBackend::kBlockLanczos, kQuiet);
     const FrfErrorEstimate& e = se.reduction_error.estimate;
     ASSERT_EQ(e.points.size(), 2u);
     errors[with] = e.max_error();
@@ -254,7 +254,7 @@ TEST(FrfError, ModalCutoffChosenFromBand) {
   c.reduction.band_hz = 1000.0;
   apply_options(c, {});  // the command line's defaults: residual modes on for a band alone
   EXPECT_TRUE(c.reduction.residual_modes);
-  const Superelement se = condense_component(c, EigenBackend::kSpectra, kQuiet);
+  const Superelement se = condense_component(c, EigenBackend::kBlockLanczos, kQuiet);
   EXPECT_LE(se.reduction_error.estimate.max_error(), 0.01);
   EXPECT_GE(se.reduction_error.cutoff_hz, 1500.0);
   std::printf("modal, band alone: cut-off %.1f Hz after %zu passes, %d coordinates, error %.3g\n",
@@ -303,7 +303,7 @@ band = 800.0
   EXPECT_DOUBLE_EQ(c.reduction.band_hz, 800.0);
   EXPECT_DOUBLE_EQ(c.reduction.frf_tolerance, 0.01);
   EXPECT_NO_THROW(check_reduction(c));
-  const Superelement se = condense_component(c, EigenBackend::kSpectra, kQuiet);
+  const Superelement se = condense_component(c, EigenBackend::kBlockLanczos, kQuiet);
   const std::filesystem::path out = dir / "bar.h5";
   write_superelement(out, se, make_provenance("test", 0, nullptr, {}));
   const h5::File h5 = h5::File::open_read(out);
@@ -318,7 +318,7 @@ band = 800.0
   no_interface.interfaces.clear();
   no_interface.reduction.method = ReductionMethod::kModal;
   try {
-    condense_component(no_interface, EigenBackend::kSpectra, kQuiet);
+    condense_component(no_interface, EigenBackend::kBlockLanczos, kQuiet);
     ADD_FAILURE() << "expected an error";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("reduction.band"), std::string::npos) << e.what();

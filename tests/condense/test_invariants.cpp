@@ -82,7 +82,7 @@ TEST(Invariants, MassCentreAndInertiaMatchAHandCalculation) {
     Component cc = c;
     cc.reduction.method = ReductionMethod::kModal;
     cc.reduction.modes = 6;
-    return condense_component(cc, EigenBackend::kSpectra, kQuiet);
+    return condense_component(cc, EigenBackend::kBlockLanczos, kQuiet);
   }();
   EXPECT_NEAR(se.inertia.mass / h.m, 1.0, 1e-12);
   const Eigen::Vector3d com = h.first / h.m;
@@ -101,7 +101,7 @@ TEST(Invariants, TestdataCrankshaftMatchesAHandCalculation) {
   c.reduction.method = ReductionMethod::kModal;
   c.reduction.modes = 4;
   c.reduction.fmax_hz = 0.0;
-  const Superelement se = condense_component(c, EigenBackend::kSpectra, kQuiet);
+  const Superelement se = condense_component(c, EigenBackend::kBlockLanczos, kQuiet);
   EXPECT_NEAR(se.inertia.mass / h.m, 1.0, 1e-12);
   EXPECT_NEAR((se.inertia.center_of_mass - h.first / h.m).norm(), 0.0, 1e-12);
   EXPECT_NEAR((se.inertia.inertia_origin - h.origin).norm() / h.origin.norm(), 0.0, 1e-12);
@@ -118,12 +118,12 @@ TEST(Testdata, ComponentsCondenseAsWrittenAndMatchAFullModalSolve) {
   };
   for (const Case& k : {Case{"crankshaft.toml", 3000.0, 1e-3}, Case{"conrod.toml", 5000.0, 1e-3}}) {
     const Component c = read_component(std::string(NVH_SOURCE_DIR) + "/testdata/" + k.file);
-    const Superelement reduced = condense_component(c, EigenBackend::kSpectra, kQuiet);
+    const Superelement reduced = condense_component(c, EigenBackend::kBlockLanczos, kQuiet);
     Component full = c;
     full.reduction.method = ReductionMethod::kModal;
     full.reduction.fmax_hz = 1.2 * k.band_hz;
     full.reduction.modes = 0;
-    const Superelement modal = condense_component(full, EigenBackend::kSpectra, kQuiet);
+    const Superelement modal = condense_component(full, EigenBackend::kBlockLanczos, kQuiet);
     int in_band = 0;
     for (int i = 0; i < modal.frequency_hz.size() && modal.frequency_hz(i) <= k.band_hz; ++i, ++in_band) {
       EXPECT_NEAR(reduced.frequency_hz(i) / modal.frequency_hz(i), 1.0, k.tolerance)
@@ -141,7 +141,7 @@ TEST(Invariants, RigidBodyBlockOfTheRawCraigBamptonMassEqualsTheMassProperties) 
   c.reduction.method = ReductionMethod::kCraigBampton;
   c.reduction.modes = 8;
   c.reduction.orthonormalize = false;
-  const Superelement se = condense_component(c, EigenBackend::kSpectra, kQuiet);
+  const Superelement se = condense_component(c, EigenBackend::kBlockLanczos, kQuiet);
   const HandInertia h = hand_calculation(c);
   Eigen::MatrixXd Rr = Eigen::MatrixXd::Zero(se.size(), 6);
   const char* dof_names[6] = {"x", "y", "z", "rx", "ry", "rz"};
@@ -181,7 +181,7 @@ TEST(Invariants, ModalInvariantsAreConsistentWithEachOther) {
   c.reduction.method = ReductionMethod::kCraigBampton;
   c.reduction.orthonormalize = false;
   c.reduction.modes = 10;
-  const Superelement se = condense_component(c, EigenBackend::kSpectra, kQuiet);
+  const Superelement se = condense_component(c, EigenBackend::kBlockLanczos, kQuiet);
   const ModalInvariants& inv = se.invariants;
   const int n = se.size();
   ASSERT_GT(inv.rotational.norm(), 1e-3);
@@ -204,7 +204,7 @@ TEST(Invariants, ElasticModesOfAFreeBodyCarryNoMomentum) {
   Component c = crank_throw();
   c.reduction.method = ReductionMethod::kModal;
   c.reduction.modes = 10;
-  const Superelement se = condense_component(c, EigenBackend::kSpectra, kQuiet);
+  const Superelement se = condense_component(c, EigenBackend::kBlockLanczos, kQuiet);
   EXPECT_NEAR(se.invariants.translational.norm(), 0.0, 1e-8);
   EXPECT_NEAR(se.invariants.rotational.norm(), 0.0, 1e-8);
 }

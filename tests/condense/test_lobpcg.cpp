@@ -70,7 +70,7 @@ TEST_F(LobpcgBar, ClampedBarAgainstCalculix) {
 
   const Component c = bar_component(inp, true, modes);
   const Superelement lob = condense_component(c, EigenBackend::kLobpcg, kQuiet);
-  const Superelement lanczos = condense_component(c, EigenBackend::kSpectra, kQuiet);
+  const Superelement lanczos = condense_component(c, EigenBackend::kBlockLanczos, kQuiet);
   ASSERT_EQ(lob.frequency_hz.size(), modes);
   double worst_ccx = 0, worst_lanczos = 0;
   for (int i = 0; i < modes; ++i) {
@@ -94,7 +94,7 @@ TEST_F(LobpcgBar, BandRequestAgainstCalculix) {
   Component c = bar_component(inp, true, 0);
   c.reduction.fmax_hz = 0.5 * (reference[13] + reference[14]);
   const Superelement lob = condense_component(c, EigenBackend::kLobpcg, kQuiet);
-  const Superelement lanczos = condense_component(c, EigenBackend::kSpectra, kQuiet);
+  const Superelement lanczos = condense_component(c, EigenBackend::kBlockLanczos, kQuiet);
   ASSERT_EQ(lob.frequency_hz.size(), 14);
   ASSERT_EQ(lanczos.frequency_hz.size(), 14);
   double worst_ccx = 0, worst_lanczos = 0;
@@ -221,7 +221,7 @@ TEST_F(LobpcgBar, FreeBarLeavesTheRigidBodyModesOut) {
     EXPECT_LT(worst_ccx, 1e-5);
   }
   const Superelement lob = condense_component(c, EigenBackend::kLobpcg, kQuiet);
-  const Superelement lanczos = condense_component(c, EigenBackend::kSpectra, kQuiet);
+  const Superelement lanczos = condense_component(c, EigenBackend::kBlockLanczos, kQuiet);
   EXPECT_EQ(lob.rigid_body_modes_removed, 6);
   ASSERT_EQ(lob.frequency_hz.size(), 12);
   double worst = 0;
@@ -265,11 +265,11 @@ TEST_F(LobpcgBar, CraigBamptonAndGuyanWithoutAFactor) {
     Component full = c;
     full.reduction.method = ReductionMethod::kModal;
     full.reduction.modes = 10;
-    return condense_component(full, EigenBackend::kSpectra, kQuiet);
+    return condense_component(full, EigenBackend::kBlockLanczos, kQuiet);
   }();
   c.reduction.fmax_hz = 5 * lanczos_full.frequency_hz(9);
   const Superelement lob = condense_component(c, EigenBackend::kLobpcg, kQuiet);
-  const Superelement lanczos = condense_component(c, EigenBackend::kSpectra, kQuiet);
+  const Superelement lanczos = condense_component(c, EigenBackend::kBlockLanczos, kQuiet);
   ASSERT_EQ(lob.frequency_hz.size(), lanczos.frequency_hz.size());
   ASSERT_GE(lob.frequency_hz.size(), 10);
   double worst_same = 0, worst_low = 0;
@@ -307,11 +307,11 @@ TEST_F(LobpcgBar, CraigBamptonAndGuyanWithoutAFactor) {
   EXPECT_EQ(lob.eigensolver, "lobpcg");
   Component banded = c;
   banded.reduction.band_hz = lanczos_full.frequency_hz(4);
-  EXPECT_EQ(condense_component(banded, EigenBackend::kLobpcg, kQuiet).eigensolver, "spectra");
+  EXPECT_EQ(condense_component(banded, EigenBackend::kLobpcg, kQuiet).eigensolver, "block-lanczos");
   // Guyan: the static condensation on the 12 boundary DOF, exact whatever solves K_ii.
   c.reduction.method = ReductionMethod::kGuyan;
   const Superelement guyan_lob = condense_component(c, EigenBackend::kLobpcg, kQuiet);
-  const Superelement guyan_lanczos = condense_component(c, EigenBackend::kSpectra, kQuiet);
+  const Superelement guyan_lanczos = condense_component(c, EigenBackend::kBlockLanczos, kQuiet);
   ASSERT_EQ(guyan_lob.frequency_hz.size(), guyan_lanczos.frequency_hz.size());
   for (Eigen::Index i = 0; i < guyan_lob.frequency_hz.size(); ++i)
     EXPECT_NEAR(guyan_lob.frequency_hz(i) / guyan_lanczos.frequency_hz(i), 1.0, 1e-8) << i;

@@ -213,7 +213,7 @@ Exported condense_and_export(const Component& c, const std::string& tag,
   const fs::path dir = fs::temp_directory_path() / ("nvh_dmig_" + std::to_string(::getpid()));
   fs::create_directories(dir);
   const fs::path h5 = dir / (tag + ".h5"), pch = dir / (tag + ".pch");
-  const Superelement made = condense_component(c, EigenBackend::kSpectra, kQuiet);
+  const Superelement made = condense_component(c, EigenBackend::kBlockLanczos, kQuiet);
   write_superelement(h5, made, make_provenance("test", 0, nullptr, {}));
   Exported e;
   e.se = read_superelement(h5);
@@ -483,7 +483,8 @@ TEST(ExportCli, WritesTheDeckAndRefusesBadInputNamingTheFile) {
   const fs::path dir = fs::temp_directory_path() / ("nvh_export_cli_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
-  const Superelement made = condense_component(raw_craig_bampton_frame(), EigenBackend::kSpectra, kQuiet);
+  const Superelement made =
+      condense_component(raw_craig_bampton_frame(), EigenBackend::kBlockLanczos, kQuiet);
   write_superelement(dir / "frame.h5", made, make_provenance("test", 0, nullptr, {}));
 
   const CliRun good = run("export " + (dir / "frame.h5").string() + " -o " + (dir / "frame.pch").string() +

@@ -133,8 +133,8 @@ TEST_F(Rbe3Bar, CraigBamptonMatchesTheEliminationForm) {
   for (const bool orthonormalize : {true, false}) {
     Component a = bar(DistributingForm::kElimination), b = bar(DistributingForm::kMultiplier);
     a.reduction.orthonormalize = b.reduction.orthonormalize = orthonormalize;
-    const Superelement ea = condense_component(a, EigenBackend::kSpectra, kQuiet);
-    const Superelement eb = condense_component(b, EigenBackend::kSpectra, kQuiet);
+    const Superelement ea = condense_component(a, EigenBackend::kBlockLanczos, kQuiet);
+    const Superelement eb = condense_component(b, EigenBackend::kBlockLanczos, kQuiet);
     EXPECT_EQ(eb.free_dof_count, ea.free_dof_count + 12) << "the multiplier form keeps 2 x 6 DOF more";
     ASSERT_EQ(ea.frequency_hz.size(), eb.frequency_hz.size());
     double worst = 0.0;
@@ -175,8 +175,8 @@ TEST_F(Rbe3Bar, GuyanMatchesTheEliminationForm) {
     c->reduction.modes = 0;
     c->reduction.orthonormalize = false;
   }
-  const Superelement ea = condense_component(a, EigenBackend::kSpectra, kQuiet);
-  const Superelement eb = condense_component(b, EigenBackend::kSpectra, kQuiet);
+  const Superelement ea = condense_component(a, EigenBackend::kBlockLanczos, kQuiet);
+  const Superelement eb = condense_component(b, EigenBackend::kBlockLanczos, kQuiet);
   ASSERT_EQ(eb.stiffness.rows(), 18);
   EXPECT_LT(relative_difference(eb.stiffness, ea.stiffness), 1e-9);
   EXPECT_LT(relative_difference(eb.mass, ea.mass), 1e-9);
@@ -205,7 +205,7 @@ TEST_F(Rbe3Bar, AnRbe3AddsNoStiffnessAndNoMass) {
   // n coordinates, which span the whole constrained space.
   c.reduction.modes = n - 18;
   c.reduction.orthonormalize = false;
-  const Superelement se = condense_component(c, EigenBackend::kSpectra, kQuiet);
+  const Superelement se = condense_component(c, EigenBackend::kBlockLanczos, kQuiet);
   EXPECT_EQ(se.free_dof_count, n + 12);
   const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> reduced(se.stiffness, se.mass);
   const Eigen::VectorXd mu = reduced.eigenvalues();
@@ -240,7 +240,7 @@ TEST_F(Rbe3Bar, TipLoadAtAnRbe3PointBendsTheCantileverAsBeamTheory) {
     c.reduction.method = ReductionMethod::kGuyan;
     c.reduction.modes = 0;
     c.reduction.orthonormalize = false;
-    const Superelement se = condense_component(c, EigenBackend::kSpectra, kQuiet);
+    const Superelement se = condense_component(c, EigenBackend::kBlockLanczos, kQuiet);
     EXPECT_EQ(se.stiffness.rows(), 6);
     return Eigen::MatrixXd(se.stiffness.inverse());
   };
@@ -263,7 +263,7 @@ TEST_F(Rbe3Bar, MultiplierFormWhereItDoesNotApplyIsAnError) {
   Component modal = bar(DistributingForm::kMultiplier);
   modal.reduction.method = ReductionMethod::kModal;
   try {
-    condense_component(modal, EigenBackend::kSpectra, kQuiet);
+    condense_component(modal, EigenBackend::kBlockLanczos, kQuiet);
     FAIL() << "expected an error";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("volume.rbe3_form"), std::string::npos) << e.what();
@@ -272,17 +272,18 @@ TEST_F(Rbe3Bar, MultiplierFormWhereItDoesNotApplyIsAnError) {
   // Only distributing couplings: nothing restrains the interior without them.
   Component free = bar(DistributingForm::kMultiplier);
   free.interfaces.erase(free.interfaces.begin());
-  EXPECT_THROW(condense_component(free, EigenBackend::kSpectra, kQuiet), Error);
+  EXPECT_THROW(condense_component(free, EigenBackend::kBlockLanczos, kQuiet), Error);
   // auto falls back to the elimination form there (the same free DOF as asked for explicitly).
   free.volume.rbe3_form = DistributingForm::kAuto;
-  const Superelement a = condense_component(free, EigenBackend::kSpectra, kQuiet);
+  const Superelement a = condense_component(free, EigenBackend::kBlockLanczos, kQuiet);
   free.volume.rbe3_form = DistributingForm::kElimination;
-  const Superelement b = condense_component(free, EigenBackend::kSpectra, kQuiet);
+  const Superelement b = condense_component(free, EigenBackend::kBlockLanczos, kQuiet);
   EXPECT_EQ(a.free_dof_count, b.free_dof_count);
   // ... and picks the multiplier form where it applies.
-  const Superelement m = condense_component(bar(DistributingForm::kAuto), EigenBackend::kSpectra, kQuiet);
+  const Superelement m =
+      condense_component(bar(DistributingForm::kAuto), EigenBackend::kBlockLanczos, kQuiet);
   const Superelement e =
-      condense_component(bar(DistributingForm::kElimination), EigenBackend::kSpectra, kQuiet);
+      condense_component(bar(DistributingForm::kElimination), EigenBackend::kBlockLanczos, kQuiet);
   EXPECT_EQ(m.free_dof_count, e.free_dof_count + 12);
 }
 

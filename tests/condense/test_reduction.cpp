@@ -23,7 +23,6 @@ using namespace testing;
 
 const Logger kQuiet{std::cerr, "test", Verbosity::kQuiet};
 
-
 /// Elastic frequencies of the unreduced free model, Hz (the 6 rigid-body modes dropped).
 Eigen::VectorXd unreduced_hz(const Component& c) {
   const FeModel model = build_beam_model(c);
@@ -41,7 +40,7 @@ TEST(CraigBampton, ReproducesTheLowestFrequenciesWithinPointOnePercent) {
   // two interface points on a free body): 1.9x the band keeps 10 modes and errs by up to 0.47 %, 3.3x
   // (16 modes) by 0.10 %, 4.6x (20 modes) by 0.05 % (see docs/theory/beams-and-reduction.md).
   c.reduction.fmax_hz = 5.0 * ref(5);
-  const Superelement se = condense_component(c, EigenBackend::kSpectra, kQuiet);
+  const Superelement se = condense_component(c, EigenBackend::kBlockLanczos, kQuiet);
   ASSERT_GE(se.frequency_hz.size(), 6);
   for (int i = 0; i < 6; ++i) EXPECT_NEAR(se.frequency_hz(i) / ref(i), 1.0, 1e-3) << "mode " << i + 1;
   EXPECT_EQ(se.rigid_body_modes_removed, 6);
@@ -59,7 +58,7 @@ TEST(CraigBampton, ConvergesAsFixedInterfaceModesAreAdded) {
   double previous = 1e300;
   for (int modes : {1, 2, 4, 8, 16, 32}) {
     c.reduction.modes = modes;
-    const Superelement se = condense_component(c, EigenBackend::kSpectra, kQuiet);
+    const Superelement se = condense_component(c, EigenBackend::kBlockLanczos, kQuiet);
     double worst = 0.0;
     for (int i = 0; i < 6; ++i) worst = std::max(worst, se.frequency_hz(i) / ref(i) - 1.0);
     // Rayleigh-Ritz: a reduced model never lies below the full one, and more modes never make it worse.
@@ -75,9 +74,9 @@ TEST(CraigBampton, RawBasisKeepsInterfaceDofsAndTheSameFrequencies) {
   c.reduction.method = ReductionMethod::kCraigBampton;
   c.reduction.modes = 10;
   c.reduction.orthonormalize = true;
-  const Superelement ortho = condense_component(c, EigenBackend::kSpectra, kQuiet);
+  const Superelement ortho = condense_component(c, EigenBackend::kBlockLanczos, kQuiet);
   c.reduction.orthonormalize = false;
-  const Superelement raw = condense_component(c, EigenBackend::kSpectra, kQuiet);
+  const Superelement raw = condense_component(c, EigenBackend::kBlockLanczos, kQuiet);
   EXPECT_EQ(raw.size(), 12 + 10);
   EXPECT_EQ(raw.coordinates.front(), "a.x");
   EXPECT_EQ(raw.rigid_body_modes_contained, 6);
@@ -93,7 +92,7 @@ TEST(FreeFreeModal, MatchesTheUnreducedModelAndBothEigenSolvers) {
   const Eigen::VectorXd ref = unreduced_hz(c);
   c.reduction.method = ReductionMethod::kModal;
   c.reduction.modes = 10;
-  for (EigenBackend backend : {EigenBackend::kSpectra, EigenBackend::kArpack}) {
+  for (EigenBackend backend : {EigenBackend::kBlockLanczos, EigenBackend::kSpectra, EigenBackend::kArpack}) {
     const Superelement se = condense_component(c, backend, kQuiet);
     ASSERT_EQ(se.frequency_hz.size(), 10);
     for (int i = 0; i < 10; ++i) EXPECT_NEAR(se.frequency_hz(i) / ref(i), 1.0, 1e-8) << to_string(backend);
@@ -105,7 +104,7 @@ TEST(FreeFreeModal, FmaxSelectsExactlyTheModesBelowIt) {
   const Eigen::VectorXd ref = unreduced_hz(c);
   c.reduction.method = ReductionMethod::kModal;
   c.reduction.fmax_hz = 0.5 * (ref(6) + ref(7));  // between the 7th and 8th elastic modes
-  const Superelement se = condense_component(c, EigenBackend::kSpectra, kQuiet);
+  const Superelement se = condense_component(c, EigenBackend::kBlockLanczos, kQuiet);
   EXPECT_EQ(se.frequency_hz.size(), 7);
 }
 
@@ -118,7 +117,7 @@ TEST(Guyan, ShowsTheKnownErrorOfStaticCondensation) {
   c.supports = {fixed({0, 0, 0})};
   c.interfaces = {point("tip", {L, 0, 0})};
   c.reduction.method = ReductionMethod::kGuyan;
-  const Superelement se = condense_component(c, EigenBackend::kSpectra, kQuiet);
+  const Superelement se = condense_component(c, EigenBackend::kBlockLanczos, kQuiet);
   ASSERT_EQ(se.size(), 6);
   const Steel steel;
   const double unit = std::sqrt(steel.E * s.Iz / (steel.rho * s.A * std::pow(L, 4))) / (2 * kPi);
@@ -141,7 +140,7 @@ TEST(Reduction, FmaxBelowTheFirstModeIsAnErrorThatNamesIt) {
   c.reduction.method = ReductionMethod::kModal;
   c.reduction.fmax_hz = 1.0;
   try {
-    condense_component(c, EigenBackend::kSpectra, kQuiet);
+    condense_component(c, EigenBackend::kBlockLanczos, kQuiet);
     FAIL() << "expected an error";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("below the first elastic mode"), std::string::npos) << e.what();

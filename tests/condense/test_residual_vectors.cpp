@@ -134,8 +134,8 @@ double worst(const Eigen::Vector4d& x, const Eigen::Vector4d& reference) {
 
 TEST_F(ResidualVectorBar, PointLoadsAreStaticallyExact) {
   int with_count = 0, without_count = 0;
-  const Superelement with = condense_component(bar({"p_*"}, 0.0), EigenBackend::kSpectra, kQuiet);
-  const Superelement without = condense_component(bar({}, 0.0), EigenBackend::kSpectra, kQuiet);
+  const Superelement with = condense_component(bar({"p_*"}, 0.0), EigenBackend::kBlockLanczos, kQuiet);
+  const Superelement without = condense_component(bar({}, 0.0), EigenBackend::kBlockLanczos, kQuiet);
   EXPECT_EQ(with.static_correction, 2) << "the file counts its residual vectors (/reduced static_correction)";
   EXPECT_EQ(without.static_correction, 0);
   for (const Eigen::Vector4d& f : {Eigen::Vector4d(-1, 0, 0, 0), Eigen::Vector4d(0, -1, 0, 0)}) {
@@ -152,13 +152,13 @@ TEST_F(ResidualVectorBar, PointLoadsAreStaticallyExact) {
 }
 
 TEST_F(ResidualVectorBar, PatchLoadIsStaticallyExact) {
-  const Superelement se = condense_component(bar({"p_mid"}, 0.012), EigenBackend::kSpectra, kQuiet);
+  const Superelement se = condense_component(bar({"p_mid"}, 0.012), EigenBackend::kBlockLanczos, kQuiet);
   const Eigen::Vector4d f(-1.0 / 3, 0, -1.0 / 3, -1.0 / 3);  // p_mid's patch: p_mid, q_1, q_2
   const Eigen::Vector4d reference = full(f), a = reduced(se, f);
   EXPECT_LT(worst(a, reference), 1e-8);
   // The point load's vector holds the deflection at p_mid (reciprocity: its dual solution is in the basis)
   // but not the patch's whole deflected shape: q_1 and q_2 are off.
-  const Superelement point = condense_component(bar({"p_mid"}, 0.0), EigenBackend::kSpectra, kQuiet);
+  const Superelement point = condense_component(bar({"p_mid"}, 0.0), EigenBackend::kBlockLanczos, kQuiet);
   const Eigen::Vector4d b = reduced(point, f);
   EXPECT_GT(worst(b, reference), 1e-4) << "a point load's vector should not hold the patch's deflection";
   std::printf(

@@ -118,7 +118,7 @@ TEST(TimoshenkoCantilever, SolidBarBendingFrequenciesWithinOnePercent) {
   c.supports = {clamp};
   c.reduction.method = ReductionMethod::kModal;
   c.reduction.modes = 6;
-  const Superelement se = condense_component(c, EigenBackend::kSpectra, kQuiet);
+  const Superelement se = condense_component(c, EigenBackend::kBlockLanczos, kQuiet);
   fs::remove_all(dir);
 
   const Beam beam{E, E / (2 * (1 + nu)), rho, h * h, std::pow(h, 4) / 12.0, 10 * (1 + nu) / (12 + 11 * nu),
@@ -168,8 +168,8 @@ class Bore : public ::testing::Test {
            extra + "[reduction]\nmethod = \"modal\"\nmodes = 6\n";
   }
   Superelement condense(const std::string& text) const {
-    return condense_component(parse_component(text, (dir_ / "block.toml").string()), EigenBackend::kSpectra,
-                              kQuiet);
+    return condense_component(parse_component(text, (dir_ / "block.toml").string()),
+                              EigenBackend::kBlockLanczos, kQuiet);
   }
   Error error_of(const std::string& text) const {
     try {

@@ -92,7 +92,7 @@ inline Compliance cantilever(const condense::Component& c, double x_load) {
 inline condense::Superelement condense_quietly(const condense::Component& c) {
   std::ostringstream quiet;
   const Logger log(quiet, "test", Verbosity::kQuiet);
-  return condense::condense_component(c, condense::EigenBackend::kSpectra, log);
+  return condense::condense_component(c, condense::EigenBackend::kBlockLanczos, log);
 }
 
 /// Displacement [u; theta] of interface point p per unit of z = [a (3), phi (3), eta (n)]: the rigid motion

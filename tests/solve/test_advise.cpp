@@ -229,7 +229,7 @@ fs::path condensed_beam() {
     const condense::Component c =
         condense::read_component(fs::path(NVH_SOURCE_DIR) / "testdata" / "scenes" / "flexible_beam.toml");
     const condense::Superelement se =
-        condense::condense_component(c, condense::EigenBackend::kSpectra, quiet());
+        condense::condense_component(c, condense::EigenBackend::kBlockLanczos, quiet());
     condense::write_superelement(file, se, make_provenance("test", 0, nullptr, {}));
   }
   return file;
@@ -270,9 +270,9 @@ TEST(Advise, TruncatingAStaticallyCorrectedSuperelementIsWarned) {
     c.reduction.modes = 4;
     c.reduction.residual_modes = true;
     c.reduction.residual_modes_given = true;
-    condense::write_superelement(file,
-                                 condense::condense_component(c, condense::EigenBackend::kSpectra, quiet()),
-                                 make_provenance("test", 0, nullptr, {}));
+    condense::write_superelement(
+        file, condense::condense_component(c, condense::EigenBackend::kBlockLanczos, quiet()),
+        make_provenance("test", 0, nullptr, {}));
   }
   const SuperelementFile se = read_superelement(file);
   ASSERT_GT(se.static_correction, 0);

@@ -83,7 +83,8 @@ void write_blade(const fs::path& file, bool stiffening) {
   c.reduction.geometric_stiffening = stiffening;
   std::ostringstream quiet;
   const Logger log(quiet, "test", Verbosity::kQuiet);
-  const condense::Superelement se = condense::condense_component(c, condense::EigenBackend::kSpectra, log);
+  const condense::Superelement se =
+      condense::condense_component(c, condense::EigenBackend::kBlockLanczos, log);
   condense::write_superelement(file, se, make_provenance("test", 0, nullptr, {}));
 }
 

@@ -1,8 +1,8 @@
 // The closed-form derivatives of flexible bodies (flexible_body.cpp, issue 12 item 3) against differences:
 //   1. the model's analytic Jacobian (Model::jacobian) of a flexible beam (modal and raw Craig-Bampton
 //      superelements, full and linear coupling) joined to a rigid body by a revolute joint and a
-//      spring-damper, loaded by a torque on the beam, against central differences of Model::residual at random
-//      states (the oracle of test_jacobian.cpp, its `compare` helper copied);
+//      spring-damper, loaded by a torque on the beam, against central differences of Model::residual at
+//      random states (the oracle of test_jacobian.cpp, its `compare` helper copied);
 //   2. each of FlexibleBody's five derivative functions against the Body base class' local-difference
 //      defaults (qualified calls), at random states with modal rotations up to ~0.3 rad;
 //   3. add_wrench, marker_sensitivity, add_wrench_derivative, kinematic_jacobian, inertia_jacobian,
@@ -28,7 +28,8 @@
 #include "solve/scene.hpp"
 #include "tests/condense/beam_fixtures.hpp"
 
-// Not under AddressSanitizer (check-sanitize), whose own malloc must be the only one: the test is skipped there.
+// Not under AddressSanitizer (check-sanitize), whose own malloc must be the only one: the test is skipped
+// there.
 #if defined(__SANITIZE_ADDRESS__)
 #define NVH_SANITIZED 1
 #elif defined(__has_feature)
@@ -37,7 +38,8 @@
 #endif
 #endif
 #if defined(__GLIBC__) && !defined(NVH_SANITIZED)
-// Count heap allocations in a window (the library's Eigen allocations go through malloc; so does operator new).
+// Count heap allocations in a window (the library's Eigen allocations go through malloc; so does operator
+// new).
 extern "C" void* __libc_malloc(std::size_t);
 namespace {
 std::atomic<bool> g_counting{false};
@@ -84,7 +86,8 @@ void write_beam(const fs::path& file, condense::ReductionMethod method, bool ort
   }
   std::ostringstream quiet;
   const Logger log(quiet, "test", Verbosity::kQuiet);
-  const condense::Superelement se = condense::condense_component(c, condense::EigenBackend::kSpectra, log);
+  const condense::Superelement se =
+      condense::condense_component(c, condense::EigenBackend::kBlockLanczos, log);
   condense::write_superelement(file, se, make_provenance("test", 0, nullptr, {}));
 }
 
@@ -103,7 +106,8 @@ gravity = [0, -9.81, 0]
 name = "beam"
 type = "flexible"
 superelement = "beam.h5"
-coupling = ")" << coupling << "\"\n";
+coupling = ")"
+    << coupling << "\"\n";
   if (modes > 0) s << "modes = " << modes << "\n";
   s << R"(angular_velocity = [0.5, -1.0, 2.0]
 [[body.marker]]
@@ -178,18 +182,19 @@ TEST_P(FlexibleJacobian, ModelJacobianMatchesDifferencesOfTheResidual) {
     // modal coordinates up to 1e-2: modal rotations of the points up to ~0.05 rad
     const Comparison r = compare(s, seed, 1.0, 1e-2);
     worst = std::max(worst, r.worst);
-    EXPECT_LT(r.worst, 1e-6) << c.basis.name << ", " << c.coupling << " (seed " << seed << "): worst at " << r.where;
+    EXPECT_LT(r.worst, 1e-6) << c.basis.name << ", " << c.coupling << " (seed " << seed << "): worst at "
+                             << r.where;
     EXPECT_LT(r.outside, 1e-9) << "the differences have entries outside the sparsity pattern";
   }
-  std::printf("  %s, %s coupling: worst relative error of the model's Jacobian %.2e\n", c.basis.name, c.coupling,
-              worst);
+  std::printf("  %s, %s coupling: worst relative error of the model's Jacobian %.2e\n", c.basis.name,
+              c.coupling, worst);
   fs::remove_all(dir);
 }
 
 // ---------------------------------------------------------------- 2. each function against the defaults
 /// Largest |a - b| / (largest |b| of that row + 1e-4 of the largest |b| of the block): relative by rows. The
-/// floor keeps rows that vanish in exact arithmetic from comparing the defaults' round-off (~1e-11 of the block)
-/// with zero: in linear coupling the omega_x row of d/domega of the beam is 0 (its elastic modes are
+/// floor keeps rows that vanish in exact arithmetic from comparing the defaults' round-off (~1e-11 of the
+/// block) with zero: in linear coupling the omega_x row of d/domega of the beam is 0 (its elastic modes are
 /// mass-orthogonal to the rigid ones, so I_tilde_xy . eta = 0; a line beam has no I_yy, I_zz terms); entries
 /// below 1e-4 of the block are so held to 1e-10 of it.
 double row_error(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b, std::string& where) {
@@ -201,8 +206,8 @@ double row_error(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b, std::string
       const double e = std::abs(a(r, c) - b(r, c)) / scale;
       if (e > worst) {
         worst = e;
-        where = "(" + std::to_string(r) + ", " + std::to_string(c) + "): closed form " + std::to_string(a(r, c)) +
-                ", default " + std::to_string(b(r, c));
+        where = "(" + std::to_string(r) + ", " + std::to_string(c) + "): closed form " +
+                std::to_string(a(r, c)) + ", default " + std::to_string(b(r, c));
       }
     }
   }
@@ -228,10 +233,12 @@ RandomState random_state(const Body& body, std::mt19937& rng, double modal) {
   return s;
 }
 
-std::span<const double> span_of(const Eigen::VectorXd& v) { return {v.data(), std::size_t(v.size())}; }
+std::span<const double> span_of(const Eigen::VectorXd& v) {
+  return {v.data(), std::size_t(v.size())};
+}
 
-/// The q columns of a derivative restricted to changes of p tangent to |p| = 1: the closed forms are exact there;
-/// the radial direction (which scales A(p)) is the model's directional difference (model.cpp).
+/// The q columns of a derivative restricted to changes of p tangent to |p| = 1: the closed forms are exact
+/// there; the radial direction (which scales A(p)) is the model's directional difference (model.cpp).
 Eigen::MatrixXd tangent(Eigen::MatrixXd m, const Eigen::VectorXd& q) {
   const Eigen::Vector4d p = q.segment<4>(3);
   m.middleCols<4>(3) = (m.middleCols<4>(3) * (Eigen::Matrix4d::Identity() - p * p.transpose())).eval();
@@ -304,8 +311,8 @@ TEST_P(FlexibleJacobian, EachDerivativeMatchesTheBaseClassDifferences) {
   const int tip = data.points[0].name == "b" ? 0 : 1;
   const Vec3 tip_at = data.points[tip].position;
   FlexibleBody body("beam", std::move(data),
-                    std::string(c.coupling) == "full" ? Coupling::kFull : Coupling::kLinear, InitialState{}, {}, {},
-                    {tip});
+                    std::string(c.coupling) == "full" ? Coupling::kFull : Coupling::kLinear, InitialState{},
+                    {}, {}, {tip});
   body.add_marker({"end", tip_at, frame_from_z(Vec3(0.0, 0.3, 1.0), Vec3::UnitX()), -1});
   // modal coordinates up to 0.1: modal rotations of the points up to ~0.3 rad (T(theta) far from 1)
   for (double modal : {1e-3, 0.1}) {
@@ -313,7 +320,8 @@ TEST_P(FlexibleJacobian, EachDerivativeMatchesTheBaseClassDifferences) {
     std::printf(
         "  %s, %s, |eta| <= %g: add_wrench %.1e, marker_sensitivity %.1e, add_wrench_derivative %.1e, "
         "kinematic_jacobian %.1e, inertia_jacobian %.1e\n",
-        c.basis.name, c.coupling, modal, e.wrench, e.sensitivity, e.wrench_derivative, e.kinematic, e.inertia);
+        c.basis.name, c.coupling, modal, e.wrench, e.sensitivity, e.wrench_derivative, e.kinematic,
+        e.inertia);
   }
   fs::remove_all(dir);
 }
@@ -346,17 +354,17 @@ TEST_P(FlexibleJacobian, InertiaResidualIsLinearInTheAccelerationsWithTheMassMat
   fs::remove_all(dir);
 }
 
-INSTANTIATE_TEST_SUITE_P(Superelements, FlexibleJacobian,
-                         ::testing::Values(JacobianCase{kModal, "full"}, JacobianCase{kModal, "linear"},
-                                           JacobianCase{kCraigBampton, "full"},
-                                           JacobianCase{kCraigBampton, "linear"},
-                                           JacobianCase{kStiffened, "full"}, JacobianCase{kStiffened, "linear"}),
-                         [](const auto& info) {
-                           return std::string(info.param.basis.name) + "_" + info.param.coupling;
-                         });
+INSTANTIATE_TEST_SUITE_P(
+    Superelements, FlexibleJacobian,
+    ::testing::Values(JacobianCase{kModal, "full"}, JacobianCase{kModal, "linear"},
+                      JacobianCase{kCraigBampton, "full"}, JacobianCase{kCraigBampton, "linear"},
+                      JacobianCase{kStiffened, "full"}, JacobianCase{kStiffened, "linear"}),
+    [](const auto& info) { return std::string(info.param.basis.name) + "_" + info.param.coupling; });
 
 // ---------------------------------------------------------------- 3. no heap allocation
-std::string dir_hint() { return fs::temp_directory_path().string(); }
+std::string dir_hint() {
+  return fs::temp_directory_path().string();
+}
 TEST(FlexibleJacobianFunctions, DoNotAllocate) {
 #if defined(NVH_COUNT_ALLOCATIONS)
   {  // the counter sees an allocation (Eigen's, through malloc)
@@ -417,8 +425,8 @@ TEST(FlexibleJacobianFunctions, DoNotAllocate) {
 #endif
 }
 
-// The whole model: a flexible and a rigid body, a revolute joint, a spring-damper and a load. The residual (called
-// once per Newton iteration) and the Jacobian allocate nothing once the workspace is warm.
+// The whole model: a flexible and a rigid body, a revolute joint, a spring-damper and a load. The residual
+// (called once per Newton iteration) and the Jacobian allocate nothing once the workspace is warm.
 TEST(ModelResidualAndJacobian, DoNotAllocate) {
 #if defined(NVH_COUNT_ALLOCATIONS)
   const fs::path dir = temp_dir("alloc_model");
@@ -444,8 +452,8 @@ TEST(ModelResidualAndJacobian, DoNotAllocate) {
     m.jacobian(0.001, y.data(), yp.data(), 200.0, values);
     g_counting = false;
     const long jacobian = g_allocations.load();
-    std::printf("measured: %s coupling: heap allocations per residual %ld, per Jacobian %ld\n", coupling, residual,
-                jacobian);
+    std::printf("measured: %s coupling: heap allocations per residual %ld, per Jacobian %ld\n", coupling,
+                residual, jacobian);
     EXPECT_EQ(residual, 0) << coupling;
     EXPECT_EQ(jacobian, 0) << coupling;
   }
@@ -468,8 +476,8 @@ class WithDefaultDerivatives final : public Body {
   int velocity_count() const override { return b_->velocity_count(); }
   Eigen::VectorXd initial_positions() const override { return b_->initial_positions(); }
   Eigen::VectorXd initial_velocities() const override { return b_->initial_velocities(); }
-  void kinematic_residual(std::span<const double> q, std::span<const double> qdot, std::span<const double> w_eff,
-                          std::span<const double> alg, std::span<double> rows,
+  void kinematic_residual(std::span<const double> q, std::span<const double> qdot,
+                          std::span<const double> w_eff, std::span<const double> alg, std::span<double> rows,
                           std::span<double> alg_rows) const override {
     b_->kinematic_residual(q, qdot, w_eff, alg, rows, alg_rows);
   }
@@ -480,10 +488,13 @@ class WithDefaultDerivatives final : public Body {
                         const Vec3& gravity, std::span<double> rows) const override {
     b_->inertia_residual(q, w, wdot, gravity, rows);
   }
-  using Body::mass_matrix;
   using Body::marker_jacobian;
-  void mass_matrix(std::span<const double> q, Eigen::Ref<Eigen::MatrixXd> m) const override { b_->mass_matrix(q, m); }
-  MarkerMotion marker_motion(int marker, std::span<const double> q, std::span<const double> w) const override {
+  using Body::mass_matrix;
+  void mass_matrix(std::span<const double> q, Eigen::Ref<Eigen::MatrixXd> m) const override {
+    b_->mass_matrix(q, m);
+  }
+  MarkerMotion marker_motion(int marker, std::span<const double> q,
+                             std::span<const double> w) const override {
     return b_->marker_motion(marker, q, w);
   }
   void marker_jacobian(int marker, std::span<const double> q, Eigen::Ref<Mat3X> jv,
@@ -529,9 +540,10 @@ TEST(FlexibleJacobianTiming, ThirtyModes) {
   const double t_closed = time_of(closed, 200);
   m.bodies[0] = std::make_unique<WithDefaultDerivatives>(std::move(m.bodies[0]));
   const double t_defaults = time_of(defaults, 20);
-  std::printf("  Model::jacobian, beam of 30 modes + rigid body (n = %d): closed forms %.3f ms, defaults %.3f ms "
-              "(%.1fx)\n",
-              m.size(), 1e3 * t_closed, 1e3 * t_defaults, t_defaults / t_closed);
+  std::printf(
+      "  Model::jacobian, beam of 30 modes + rigid body (n = %d): closed forms %.3f ms, defaults %.3f ms "
+      "(%.1fx)\n",
+      m.size(), 1e3 * t_closed, 1e3 * t_defaults, t_defaults / t_closed);
   ASSERT_EQ(closed.size(), defaults.size());
   double worst = 0, scale = 0;
   for (std::size_t k = 0; k < closed.size(); ++k) {
