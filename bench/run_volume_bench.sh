@@ -10,7 +10,7 @@
 #   BUILD_DIR: CMake build directory with condense and bench_volume_mesh (default: $BUILD_DIR, else
 #   build-vol, else build). Sizes default to 0.020 0.015 0.0115 (engine), 0.016 0.012 0.009 (plain).
 #   Environment: WORK_DIR (default: a temporary directory, removed afterwards), NO_CCX=1 to run condense
-#   only, ORDERING (condense --ordering, default auto), EIGENSOLVER (condense --eigensolver, default spectra;
+#   only, ORDERING (condense --ordering, default auto), EIGENSOLVER (condense --eigensolver, default block-lanczos;
 #   lobpcg: the iterative solve without a factor of K, docs/component-format.md).
 set -euo pipefail
 
@@ -64,7 +64,7 @@ ccx_frequencies() {
        /P A R T I C I P A T I O N/ {on = 0}' "$1"
 }
 
-echo "geometry: $geometry ($geo); condense --eigensolver ${EIGENSOLVER:-spectra}; host: $(nproc) cores, load average now: $(cut -d' ' -f1-3 /proc/loadavg)"
+echo "geometry: $geometry ($geo); condense --eigensolver ${EIGENSOLVER:-block-lanczos}; host: $(nproc) cores, load average now: $(cut -d' ' -f1-3 /proc/loadavg)"
 # Times are CPU seconds (user + sys): on a machine shared with other work the wall time measures the
 # load as much as the program; both tools run one thread here. Wall times are in the logs.
 printf "%-8s %8s %8s | %9s %9s | %9s %9s | %7s %7s | %9s\n" "size_m" "nodes" "DOF" "condense_s" "cond_MiB" \
@@ -95,7 +95,7 @@ TOML
     for set in "${fixed[@]}"; do printf '[[fix]]\nsurface = "%s"\ndofs = "x y z"\n' "$set"; done
   } > "$dir/block.toml"
   OMP_NUM_THREADS=1 /usr/bin/time -f "%e %U %S %M" -o "$dir/condense.time" "$condense" "$dir/block.toml" -o "$dir/block.h5" -v \
-    --ordering "${ORDERING:-auto}" --eigensolver "${EIGENSOLVER:-spectra}" > "$dir/condense.log" 2>&1
+    --ordering "${ORDERING:-auto}" --eigensolver "${EIGENSOLVER:-block-lanczos}" > "$dir/condense.log" 2>&1
   read -r c_wall c_user c_sys c_kb < "$dir/condense.time"
   c_s=$(awk -v u="$c_user" -v s="$c_sys" 'BEGIN {printf "%.1f", u + s}')
   /usr/bin/python3 -c "import h5py; print('\n'.join(str(f) for f in h5py.File('$dir/block.h5')['/modes/frequency_hz'][:]))" \

@@ -155,7 +155,8 @@ BlockLanczosResult block_lanczos(Eigen::Index n, const BlockOperator& c, int nev
     if (converged == nev) {
       rotate_basis(v, s.leftCols(nev));
       result.values = theta.head(nev);
-      result.vectors = v.leftCols(nev);
+      v.conservativeResize(Eigen::NoChange, nev);  // the basis's storage becomes the vectors' (no copy)
+      result.vectors.swap(v);
       return result;
     }
     if (result.restarts == options.max_restarts) {

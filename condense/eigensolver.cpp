@@ -144,6 +144,42 @@ void symmetrize(SparseMatrix& a, const char* name) {
   }
 }
 
+/// y = A x for a symmetric A stored as its lower triangle (compressed, sorted columns) and a block x of
+/// columns, reading A once for the whole block: each entry a_ij updates the rows i and j of all columns,
+/// held row-major. Eigen's product with a self-adjoint view reads A once per column of x: on the 240k-DOF
+/// engine block (bench/README.md) the block Lanczos solve's products with M and the residual checks of
+/// 30 modes took 2.1 s that way and 1.5 s this way (a kernel with the width fixed at compile time and
+/// AVX-512 clones was no faster: the scattered updates of the rows i bound it).
+Eigen::MatrixXd lower_symmetric_times(const SparseMatrix& a, const Eigen::Ref<const Eigen::MatrixXd>& x) {
+  using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  const Eigen::Index b = x.cols();
+  if (b == 1 || !a.isCompressed()) return a.selfadjointView<Eigen::Lower>() * x;
+  const RowMajor xr = x;
+  RowMajor yr = RowMajor::Zero(x.rows(), b);
+  const int* outer = a.outerIndexPtr();
+  const int* inner = a.innerIndexPtr();
+  const double* values = a.valuePtr();
+  for (Eigen::Index j = 0; j < a.outerSize(); ++j) {
+    const double* xj = xr.data() + j * b;
+    double* yj = yr.data() + j * b;
+    for (int k = outer[j]; k < outer[j + 1]; ++k) {
+      const Eigen::Index i = inner[k];
+      const double v = values[k];
+      if (i == j) {
+        for (Eigen::Index c = 0; c < b; ++c) yj[c] += v * xj[c];
+      } else if (i > j) {
+        const double* xi = xr.data() + i * b;
+        double* yi = yr.data() + i * b;
+        for (Eigen::Index c = 0; c < b; ++c) {
+          yi[c] += v * xj[c];
+          yj[c] += v * xi[c];
+        }
+      }
+    }
+  }
+  return yr;
+}
+
 /// The pencil (K, M) as the eigen-solve keeps it, in lower triangles only, and K not at all but as
 /// A = K - sigma_a M: the matrix the first factorization needs, so that the factorization makes no copy
 /// of its own and K's storage is given back before it (on large solids the factor sets the peak
@@ -167,11 +203,18 @@ struct Pencil {
 
   Eigen::Index rows() const { return m.rows(); }
   Eigen::MatrixXd mass_times(const Eigen::Ref<const Eigen::MatrixXd>& x) const {
-    return m.selfadjointView<Eigen::Lower>() * x;
+    return lower_symmetric_times(m, x);
   }
   Eigen::MatrixXd stiffness_times(const Eigen::Ref<const Eigen::MatrixXd>& x) const {
-    Eigen::MatrixXd y = a.selfadjointView<Eigen::Lower>() * x;
+    Eigen::MatrixXd y = lower_symmetric_times(a, x);
     if (sigma_a != 0.0) y += sigma_a * mass_times(x);
+    return y;
+  }
+  /// K x from M x already formed (K x = A x + sigma_a M x).
+  Eigen::MatrixXd stiffness_times(const Eigen::Ref<const Eigen::MatrixXd>& x,
+                                  const Eigen::MatrixXd& mx) const {
+    Eigen::MatrixXd y = lower_symmetric_times(a, x);
+    if (sigma_a != 0.0) y += sigma_a * mx;
     return y;
   }
   /// Lower triangle of K - sigma M (another shift than sigma_a).
@@ -327,15 +370,17 @@ int lanczos_size(int nev, int n) {
 
 /// Block Lanczos: blocks of b = nev / 16 columns, 6 to 12 (a free part's six rigid-body modes share one
 /// eigenvalue: a block Krylov space holds up to b copies of a multiple eigenvalue), and a basis of
-/// max(1.5 nev, nev + 11 b). Measured (one core; bench/README.md): 30 modes of 47k-DOF solids, b = 5 to
-/// 10 and bases of 80 to 120: b = 6 and 96 best (2.09 s; 2.24-2.64 s otherwise; Spectra 3.57 s); 206
-/// modes of the 60k-DOF beam, b = 6 to 32 and bases of 309 to 412: b = 12 and 309-340 best (4.1-4.2 s;
-/// 4.4-6.3 s otherwise; Spectra 8.0 s).
+/// max(1.5 nev, nev + 7 b). Measured (one core; bench/README.md): 30 modes of 47k-DOF solids, b = 5 to
+/// 10 and bases of 72 to 120: b = 6 and 96 fastest (2.09 s; 72: 2.36 s; Spectra 3.57 s); of the 240k-DOF
+/// engine block, b = 6: bases of 96 / 72 / 60 took 10.3 / 10.6 / 11.8 s at a peak of 1,306 / 1,262 /
+/// 1,240 MiB (Spectra: 14.6 s, 1,263 MiB) - 72 keeps Spectra's memory; 206 modes of the 60k-DOF beam, b
+/// = 6 to 32 and bases of 309 to 412: b = 12 and 309-340 best (4.1-4.2 s; 4.4-6.3 s otherwise; Spectra
+/// 8.0 s).
 int block_lanczos_block(int nev) {
   return std::clamp(nev / 16, 6, 12);
 }
 int block_lanczos_basis(int nev) {
-  return std::max(3 * nev / 2, nev + 11 * block_lanczos_block(nev));
+  return std::max(3 * nev / 2, nev + 7 * block_lanczos_block(nev));
 }
 
 /// Spectra's OpType concept for the symmetric form C of the shift-invert operator.
@@ -618,8 +663,8 @@ Eigen::VectorXd relative_residuals(const Pencil& pencil, const RawModes& modes) 
   for (Eigen::Index first = 0; first < count; first += kColumns) {
     const Eigen::Index columns = std::min(kColumns, count - first);
     const auto x = modes.vectors.middleCols(first, columns);
-    const Eigen::MatrixXd kx = pencil.stiffness_times(x);
     const Eigen::MatrixXd mx = pencil.mass_times(x);
+    const Eigen::MatrixXd kx = pencil.stiffness_times(x, mx);
     for (Eigen::Index j = 0; j < columns; ++j) {
       const double lambda = modes.values[first + j];
       Eigen::VectorXd r = kx.col(j) - lambda * mx.col(j);
