@@ -97,30 +97,34 @@ BlockLanczosResult block_lanczos(Eigen::Index n, const BlockOperator& c, int nev
   std::mt19937 random(20261129);                        // a fixed seed: the same run gives the same modes
   std::normal_distribution<double> normal;
 
-  // Orthonormalize block x against the first k columns of v and the deflated ones, store it at column k.
-  // Returns R (x = V_k R + ...); a direction x has lost (an invariant subspace, or a dependent block) is
-  // replaced by a random one orthogonal to everything, with its row of R zero.
+  // Orthonormalize block x against the first k columns of v and the deflated ones, store it as Q at column
+  // k, and return R = Q^T x (x = V_k R + ...). A direction x has lost (an invariant subspace, or columns
+  // dependent within the block: a diagonal entry of R below kLost of the block's norm before the
+  // projection) is replaced by a random one orthogonal to everything and the block factored again; the
+  // lost part, below kLost, drops out of the recurrence.
   const auto append = [&](Eigen::MatrixXd& x, Eigen::Index k,
                           Eigen::MatrixXd* coefficients) -> Eigen::MatrixXd {
     const double scale = x.colwise().norm().maxCoeff();  // before the projection
     Eigen::MatrixXd g = orthogonalize(v, k, options.deflate, x);
     if (coefficients) *coefficients = std::move(g);
     Eigen::HouseholderQR<Eigen::MatrixXd> qr(x);
-    Eigen::MatrixXd r = qr.matrixQR().topRows(b).triangularView<Eigen::Upper>();
-    Eigen::MatrixXd q = qr.householderQ() * Eigen::MatrixXd::Identity(n, b);
-    for (Eigen::Index j = 0; j < b; ++j) {
-      if (std::abs(r(j, j)) > kLost * scale) continue;
-      Eigen::MatrixXd fresh(n, 1);
-      for (Eigen::Index i = 0; i < n; ++i) fresh(i, 0) = normal(random);
-      for (int pass = 0; pass < 2; ++pass) {
-        orthogonalize(v, k, options.deflate, fresh);
-        subtract_times(q, transpose_times(q, b, fresh), fresh);
-      }
-      q.col(j) = fresh.col(0).normalized();
-      r.row(j).setZero();
+    const Eigen::ArrayXd diagonal = qr.matrixQR().diagonal().cwiseAbs();
+    if ((diagonal > kLost * scale).all()) {
+      v.middleCols(k, b) = qr.householderQ() * Eigen::MatrixXd::Identity(n, b);
+      return qr.matrixQR().topRows(b).triangularView<Eigen::Upper>();
     }
-    v.middleCols(k, b) = q;
-    return r;
+    Eigen::MatrixXd replaced = x;
+    for (Eigen::Index j = 0; j < b; ++j) {
+      if (diagonal[j] > kLost * scale) continue;
+      for (Eigen::Index i = 0; i < n; ++i) replaced(i, j) = normal(random);
+    }
+    orthogonalize(v, k, options.deflate, replaced);  // CGS twice
+    qr.compute(replaced);
+    if (!(qr.matrixQR().diagonal().cwiseAbs().array() > 0).all())
+      throw Error(
+          "block Lanczos: no new direction independent of the basis (a basis as large as the problem)");
+    v.middleCols(k, b) = qr.householderQ() * Eigen::MatrixXd::Identity(n, b);
+    return v.middleCols(k, b).transpose() * x;
   };
 
   BlockLanczosResult result;

@@ -136,6 +136,26 @@ TEST(BlockLanczos, InvariantSubspaceGoesOnFromFreshDirections) {
     EXPECT_LT((d.asDiagonal() * r.vectors.col(j) - expected[j] * r.vectors.col(j)).norm(), 1e-12);
 }
 
+TEST(BlockLanczos, PartlyLostBlockKeepsTheRecurrenceExact) {
+  // diag(3, 2, 1, ..., 1), blocks of 3: the start block and its images span 5 dimensions (one direction
+  // of each of 3 and 2, three of 1), so the second block loses one of its three directions and keeps two:
+  // the lost one is replaced, and the Ritz pairs must still be exact eigenpairs.
+  constexpr int kSize = 60;
+  Eigen::VectorXd d = Eigen::VectorXd::Ones(kSize);
+  d[0] = 3;
+  d[1] = 2;
+  const BlockOperator c = [&d](const Eigen::MatrixXd& x, Eigen::MatrixXd& y) { y = d.asDiagonal() * x; };
+  BlockLanczosOptions options;
+  options.block_size = 3;
+  const BlockLanczosResult r = block_lanczos(kSize, c, 3, options);
+  const Eigen::Vector3d expected(3, 2, 1);
+  EXPECT_LT((r.values - expected).cwiseAbs().maxCoeff(), 1e-14);
+  EXPECT_LT((r.vectors.transpose() * r.vectors - Eigen::MatrixXd::Identity(3, 3)).cwiseAbs().maxCoeff(),
+            1e-14);
+  for (int j = 0; j < 3; ++j)
+    EXPECT_LT((d.asDiagonal() * r.vectors.col(j) - expected[j] * r.vectors.col(j)).norm(), 1e-12) << j;
+}
+
 TEST(BlockLanczos, RequestsThatDoNotFitAreRefused) {
   const BlockOperator c = [](const Eigen::MatrixXd& x, Eigen::MatrixXd& y) { y = x; };
   BlockLanczosOptions options;
