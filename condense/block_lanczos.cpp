@@ -157,9 +157,16 @@ BlockLanczosResult block_lanczos(Eigen::Index n, const BlockOperator& c, int nev
                options.tolerance * std::max(std::pow(kEpsilon, 2.0 / 3.0), std::abs(theta[converged])))
       ++converged;
     if (converged == nev) {
-      rotate_basis(v, s.leftCols(nev));
-      result.values = theta.head(nev);
-      v.conservativeResize(Eigen::NoChange, nev);  // the basis's storage becomes the vectors' (no copy)
+      if (options.all_converged) {
+        const Eigen::Index last = m - b;  // the last block's Ritz values are the least accurate: never theirs
+        while (converged < last &&
+               residual[converged] <=
+                   options.tolerance * std::max(std::pow(kEpsilon, 2.0 / 3.0), std::abs(theta[converged])))
+          ++converged;
+      }
+      rotate_basis(v, s.leftCols(converged));
+      result.values = theta.head(converged);
+      v.conservativeResize(Eigen::NoChange, converged);  // the basis's storage becomes the vectors' (no copy)
       result.vectors.swap(v);
       return result;
     }

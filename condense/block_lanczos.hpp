@@ -29,12 +29,15 @@ struct BlockLanczosOptions {
   /// Optional: orthonormal columns (eigenvectors of C found before) the basis stays orthogonal to, so that
   /// a run finds the next eigenvalues (projection deflation).
   const Eigen::MatrixXd* deflate = nullptr;
+  /// Return every leading converged Ritz pair of the basis when the nev have converged (at least nev),
+  /// not only the nev: those beyond come free.
+  bool all_converged = false;
   /// Optional: called after each block with the columns applied so far.
   std::function<void(int products)> progress;
 };
 
 struct BlockLanczosResult {
-  Eigen::VectorXd values;   ///< the largest eigenvalues of C, descending
+  Eigen::VectorXd values;   ///< the largest eigenvalues of C, descending (nev, or more: all_converged)
   Eigen::MatrixXd vectors;  ///< their eigenvectors, orthonormal
   int products = 0;         ///< columns C was applied to
   int restarts = 0;

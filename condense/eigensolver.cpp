@@ -442,11 +442,14 @@ RawModes solve_spectra(ShiftInvertOperator& op, int nev, double tolerance,
 }
 
 /// Block Lanczos (block_lanczos.hpp) on C, as solve_spectra: largest nu = 1 / (lambda - sigma) first,
-/// lambda = sigma + 1 / nu and x = P^T L^-T y; `deflate` and `vectors_of_c` as there.
+/// lambda = sigma + 1 / nu and x = P^T L^-T y; `deflate` and `vectors_of_c` as there. `all_converged`
+/// (fmax passes): every leading converged Ritz pair of the basis, at least nev - the basis holds nev + 7
+/// blocks, and the pairs beyond nev that have converged by then come free, so the pass reaches further.
 RawModes solve_block_lanczos(ShiftInvertOperator& op, int nev, double tolerance,
                              const Eigen::MatrixXd* deflate = nullptr,
-                             Eigen::MatrixXd* vectors_of_c = nullptr) {
+                             Eigen::MatrixXd* vectors_of_c = nullptr, bool all_converged = false) {
   BlockLanczosOptions options;
+  options.all_converged = all_converged;
   options.tolerance = tolerance;
   options.deflate = deflate;
   options.block_size = block_lanczos_block(nev);
@@ -1014,7 +1017,8 @@ EigenResult solve_eigenproblem(SparseMatrix&& K, SparseMatrix&& M, const EigenRe
           nev, &request.progress);
       if (request.backend == EigenBackend::kArpack) return solve_arpack(op, pencil, nev, request.tolerance);
       if (request.backend == EigenBackend::kBlockLanczos)
-        return solve_block_lanczos(op, nev, request.tolerance, deflate, by_count ? nullptr : &last_c);
+        return solve_block_lanczos(op, nev, request.tolerance, deflate, by_count ? nullptr : &last_c,
+                                   !by_count);
       return solve_spectra(op, nev, request.tolerance, deflate, by_count ? nullptr : &last_c);
     };
     // An automatic shift is a guess. If all wanted eigenvalues turn out to lie far below |sigma|, their
@@ -1083,13 +1087,14 @@ EigenResult solve_eigenproblem(SparseMatrix&& K, SparseMatrix&& M, const EigenRe
         }
         const double highest = raw.values.maxCoeff();
         if (highest > lambda_max) break;
-        if (nev == n - 2) {
+        if (nev == n - 2 || raw.values.size() >= n - 2) {
           dense = true;  // fmax lies above (nearly) all modes of the model
           break;
         }
         const double next = std::max(
             1.5 * nev, std::ceil(1.15 * nev * std::pow(lambda_max / highest, growth_exponent(raw.values))));
-        nev = static_cast<int>(std::min(next, n - 2.0));
+        // A block run may have returned more modes than it was asked for (solve_block_lanczos): ask beyond.
+        nev = static_cast<int>(std::min(std::max<double>(next, raw.values.size() + 1), n - 2.0));
       }
     }
     result.shift = op.shift();

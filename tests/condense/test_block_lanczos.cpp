@@ -116,6 +116,27 @@ TEST(BlockLanczos, DeflatedRunFindsTheNextEigenvalues) {
   EXPECT_LT((first.vectors.transpose() * next.vectors).cwiseAbs().maxCoeff(), 1e-12);
 }
 
+TEST(BlockLanczos, AllConvergedReturnsTheFreePairsBeyondTheRequest) {
+  // all_converged (the fmax passes): a diagonal operator with five large eigenvalues 10, 9, 8, 7, 6 and
+  // the rest in (0, 0.01); 3 asked for in blocks of 4. The five are captured together, so the 4th and 5th
+  // have converged with the 3rd and come back too, each exact; without all_converged, 3.
+  constexpr int kSize = 200;
+  Eigen::VectorXd d(kSize);
+  for (int i = 0; i < kSize; ++i) d[i] = i < 5 ? 10.0 - i : 0.01 * (i + 1) / (kSize + 1);
+  const BlockOperator c = [&d](const Eigen::MatrixXd& x, Eigen::MatrixXd& y) { y = d.asDiagonal() * x; };
+  BlockLanczosOptions options;
+  options.block_size = 4;
+  EXPECT_EQ(block_lanczos(kSize, c, 3, options).values.size(), 3);
+  options.all_converged = true;
+  const BlockLanczosResult r = block_lanczos(kSize, c, 3, options);
+  EXPECT_GE(r.values.size(), 5);
+  for (Eigen::Index j = 0; j < r.values.size(); ++j) {
+    EXPECT_NEAR(r.values[j], d[j], 1e-12 * d[j]) << "value " << j;
+    EXPECT_LT((d.asDiagonal() * r.vectors.col(j) - r.values[j] * r.vectors.col(j)).norm(), 1e-9) << j;
+  }
+  std::printf("[ all converged ] 3 asked for, %d returned\n", static_cast<int>(r.values.size()));
+}
+
 TEST(BlockLanczos, InvariantSubspaceGoesOnFromFreshDirections) {
   // diag(2, 2, 2, 1, 1, ..., 1): a start block of 3 and its images span an invariant subspace of
   // dimension 6 (the eigenspace of 2 and three directions of 1); the next block is lost and must be
