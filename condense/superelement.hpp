@@ -41,7 +41,7 @@ struct ModelRecord {
   double factor_seconds = 0.0;  ///< their numeric factorization
   double eigen_seconds = 0.0;   ///< Lanczos iterations (or the dense eigen-solve)
   int eigen_solves = 0;  ///< solves with the factorization in the Lanczos iterations (lobpcg: its iterations)
-  std::string eigensolver;  ///< the eigen-solve's backend: "spectra", "arpack", "dense" or "lobpcg"
+  std::string eigensolver;  ///< the eigen-solve's backend: "block-lanczos", "spectra", "arpack", "dense" or "lobpcg"
 };
 
 /// The error estimate of the reduction in the band (frf_error.hpp) and how the cut-off was chosen, for
