@@ -1041,9 +1041,12 @@ EigenResult solve_eigenproblem(SparseMatrix&& K, SparseMatrix&& M, const EigenRe
       return false;
     };
     if (by_count) {
-      raw = solve(request.modes);
+      // One mode more than asked for, when the model has it: it tells whether the count ends inside a
+      // group of equal eigenvalues (EigenResult::split_first).
+      const int guarded = request.modes + 1 < n - 1 ? request.modes + 1 : request.modes;
+      raw = solve(guarded);
       if (!shift_fits(raw)) {
-        raw = solve(request.modes);
+        raw = solve(guarded);
       } else if (request.shift == 0.0 && !request.stiffness_factor &&
                  worst_residual(pencil, raw) > request.residual_limit) {
         // The small automatic shift of a count request (see automatic_shift) conditions K - sigma M
@@ -1055,7 +1058,7 @@ EigenResult solve_eigenproblem(SparseMatrix&& K, SparseMatrix&& M, const EigenRe
           if (raw.values[i] > 1e-3 * std::abs(op.shift())) first = std::min(first, raw.values[i]);
         if (std::isfinite(first) && 1e-3 * first > std::abs(op.shift())) {
           op.set_shift(-1e-3 * first);
-          raw = solve(request.modes);
+          raw = solve(guarded);
         }
       }
     } else {
@@ -1125,6 +1128,18 @@ EigenResult solve_eigenproblem(SparseMatrix&& K, SparseMatrix&& M, const EigenRe
   Eigen::Index count = raw.values.size();
   if (by_count) {
     count = request.modes;
+    if (raw.values.size() > count) {  // the guard mode (or all, dense): does the count split a group?
+      std::vector<double> v(raw.values.data(), raw.values.data() + raw.values.size());
+      std::sort(v.begin(), v.end());
+      const auto equal = [&](std::size_t i) {  // v[i] and v[i + 1], as m_orthonormalize's clusters
+        return v[i + 1] - v[i] <= 1e-8 * std::max(std::abs(v[i]), std::abs(v[i + 1])) + absolute_gap;
+      };
+      std::size_t first = static_cast<std::size_t>(count) - 1;
+      if (equal(first)) {
+        while (first > 0 && equal(first - 1)) --first;
+        result.split_first = static_cast<int>(first);
+      }
+    }
   } else {
     count = (raw.values.array() <= lambda_max).count();
     for (Eigen::Index i = 0; i < raw.values.size(); ++i) {

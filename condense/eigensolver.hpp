@@ -79,6 +79,11 @@ struct EigenResult {
   /// fmax requests: the lowest eigenvalue found above fmax (NaN if none was), for messages such as
   /// "fmax lies below the first mode at ... Hz".
   double next_eigenvalue = std::numeric_limits<double>::quiet_NaN();
+  /// Count requests: -1 if the count ends at a gap of the spectrum; otherwise it ends inside a group of
+  /// equal eigenvalues (mode `modes` + 1, solved for as a guard, equals mode `modes` to 1e-8), and this
+  /// is the group's first mode (0-based) - the modes kept of the group are an arbitrary part of its
+  /// eigenspace (the solver's choice). Not checked by lobpcg.
+  int split_first = -1;
 };
 
 /// Lowest eigenpairs of K x = lambda M x, K and M symmetric: both triangles stored, or the lower one

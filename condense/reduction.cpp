@@ -41,6 +41,22 @@ EigenRequest request_for(const ReductionSettings& s, int rigid, const ReductionI
   return r;
 }
 
+/// A mode count that ends inside a group of equal frequencies (EigenResult::split_first) keeps an
+/// arbitrary part of the group's eigenspace: a warning naming the group and what to ask for instead.
+/// `rigid`: the rigid-body modes counted in eig before the elastic ones; `what`: "modes" or
+/// "fixed-interface modes".
+void warn_if_split(const EigenResult& eig, int rigid, const std::string& what, const Logger& log) {
+  if (eig.split_first < 0) return;
+  const int last = static_cast<int>(eig.eigenvalues.size()) - rigid;  // the count asked for
+  const int first = eig.split_first - rigid + 1;                      // 1-based, elastic
+  log.warning("modes = " + std::to_string(last) + " ends inside a group of equal frequencies: " + what + " " +
+              std::to_string(first) + ".." + std::to_string(last) + " at " +
+              hz(frequency_hz(eig.eigenvalues[eig.eigenvalues.size() - 1])) +
+              " and at least one more; the modes kept of the group are an arbitrary part of its space (the "
+              "eigensolver's choice: a round shaft's other bending plane, a repeated part's partners may be "
+              "missing). Ask for more modes, or by fmax, to keep whole groups");
+}
+
 /// Modal damping 2 zeta omega on the elastic modes X_e (M_r-orthonormal) of a reduced basis:
 /// D = M_r X_e diag(2 zeta omega) X_e^T M_r, so that X_e^T D X_e = diag(2 zeta omega).
 Eigen::MatrixXd modal_damping(const Eigen::MatrixXd& mass, const Eigen::MatrixXd& elastic_vectors,
@@ -257,6 +273,7 @@ ReducedModel modal_reduction(ReductionInput& in, const Logger& log) {
   }
   EigenResult eig =
       solve_eigenproblem(std::move(in.stiffness), std::move(in.mass), request_for(s, rigid, in));
+  warn_if_split(eig, rigid, "modes", log);
   const int found = static_cast<int>(eig.eigenvalues.size());
   if (found <= rigid) {
     // Nothing elastic below fmax: the eigen-solve found the first elastic mode above it.
@@ -564,6 +581,7 @@ ReducedModel craig_bampton(const ReductionInput& in, bool with_fixed_interface_m
       if (request.backend == EigenBackend::kLobpcg) request.backend = EigenBackend::kBlockLanczos;
     }
     const EigenResult eig = solve_eigenproblem(std::move(Kii), submatrix(M, i_dofs, i_dofs), request);
+    warn_if_split(eig, 0, "fixed-interface modes", log);
     if (eig.eigenvalues.size() == 0) {
       throw Error("fmax = " + hz(s.fmax_hz) + " is below the first fixed-interface mode (" +
                       hz(frequency_hz(eig.next_eigenvalue)) +

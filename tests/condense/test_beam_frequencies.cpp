@@ -15,6 +15,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <sstream>
 #include <vector>
 
 #include "beam_fixtures.hpp"
@@ -86,6 +87,29 @@ TEST_F(SlenderBeam, CantileverBendingWithinPointThreePercentOfEulerBernoulli) {
     // Round section: each bending frequency appears twice (x-y and x-z planes).
     EXPECT_NEAR(f[2 * n] / ref, 1.0, 0.003) << "mode " << n + 1;
     EXPECT_NEAR(f[2 * n + 1] / ref, 1.0, 0.003) << "mode " << n + 1;
+  }
+}
+
+TEST_F(SlenderBeam, ModeCountInsideABendingPairIsWarnedAbout) {
+  // The round rod's bending modes come in equal pairs (x-y and x-z planes): modes = 3 keeps one of the
+  // second pair, an arbitrary direction of its plane - warned, naming mode 3; modes = 4 ends at a gap -
+  // no warning. The same for the free rod (its 6 rigid-body modes come before the count).
+  for (bool clamped : {true, false}) {
+    Component c = straight_beam(L, section, 40);
+    if (clamped) c.supports = {fixed({0, 0, 0})};
+    for (int modes : {3, 4}) {
+      std::ostringstream out;
+      const Logger warnings{out, "test", Verbosity::kQuiet};
+      c.reduction.modes = modes;
+      const Superelement se = condense_component(c, EigenBackend::kBlockLanczos, warnings);
+      ASSERT_EQ(se.frequency_hz.size(), modes);
+      const bool warned = out.str().find("ends inside a group of equal frequencies") != std::string::npos;
+      EXPECT_EQ(warned, modes == 3) << (clamped ? "clamped" : "free") << ", modes = " << modes << ": "
+                                    << out.str();
+      if (modes == 3) {
+        EXPECT_NE(out.str().find("modes 3..3 at"), std::string::npos) << out.str();
+      }
+    }
   }
 }
 

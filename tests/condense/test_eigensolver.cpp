@@ -186,15 +186,17 @@ TEST(EigenSolver, ProgressFollowsTheLanczosRun) {
     EXPECT_EQ(calls[i].second, calls[0].second);  // the same run
     EXPECT_GT(calls[i].first, calls[i - 1].first);
   }
-  // Basis max(1.5 nev + 1, nev + 20), the start vector and one restart of basis - nev solves.
-  EXPECT_EQ(calls[0].second, 30 + 20 + 1 + 20);
+  // 31 modes (the count and a guard mode that tells whether the count splits a group of equal ones):
+  // basis max(1.5 nev + 1, nev + 20), the start vector and one restart of basis - nev solves.
+  EXPECT_EQ(calls[0].second, 31 + 20 + 1 + 20);
   EXPECT_LE(calls.back().first, r.matrix_operations);
   EXPECT_GT(calls.back().first, r.matrix_operations - 8);  // reported every 8 solves
 }
 
 TEST(EigenSolver, ProgressFollowsTheBlockLanczosRun) {
-  // The block solver (the default) on the same chain: blocks of 6, a basis of 30 + 7 x 6 = 72; the
-  // count expected is the basis, the start and one restart (72 - 30), as for Spectra; the callback is
+  // The block solver (the default) on the same chain, 31 modes with the guard: blocks of 6, a basis of
+  // 31 + 7 x 6 = 73; the count expected is the basis, the start and one restart (73 - 31), as for
+  // Spectra; the callback is
   // called every 8 solves or at the next block's end, with increasing counts up to the total reported.
   const Problem p = chain(2000, false);
   EigenRequest request;
@@ -203,7 +205,7 @@ TEST(EigenSolver, ProgressFollowsTheBlockLanczosRun) {
   request.progress = [&](int done, int expected) { calls.emplace_back(done, expected); };
   const EigenResult r = solve_eigenproblem(p.K, p.M, request);
   ASSERT_GE(calls.size(), 3u);
-  EXPECT_EQ(calls[0].second, 72 + 1 + 42);
+  EXPECT_EQ(calls[0].second, 73 + 1 + 42);
   for (std::size_t i = 1; i < calls.size(); ++i) {
     EXPECT_GT(calls[i].first, calls[i - 1].first);
     EXPECT_GE(calls[i].second, calls[i - 1].second);  // grows only past a restart beyond the first
@@ -232,6 +234,27 @@ TEST_P(Backends, FreeFreeChainRigidMode) {
   EXPECT_LT(max_orthonormality_error(r, p.M), 1e-10);
   std::printf("[ %s ] free-free chain N = %d: |lambda_0| / lambda_1 = %.2e, max rel. error %.2e\n",
               to_string(GetParam()).c_str(), n, rigid, error);
+}
+
+TEST_P(Backends, CountInsideADoubleEigenvalueIsReported) {
+  // The membrane's double eigenvalues lambda_pq = lambda_qp (closed form): a count that keeps one member
+  // of a pair reports the pair's first mode (split_first, 0-based); a count at a gap reports -1.
+  const int grid = GetParam() == EigenBackend::kDense ? 15 : 30;
+  const Problem p = membrane(grid);
+  const std::vector<double> reference = membrane_eigenvalues(grid);
+  const auto equal = [&](int i) { return reference[i + 1] - reference[i] < 1e-12 * reference[i]; };
+  int inside = 1;  // a count ending on the first member of a pair: reference[inside - 1] == reference[inside]
+  while (!equal(inside - 1)) ++inside;
+  int gap = inside + 1;  // a count ending after a pair's second member, before a different value
+  while (equal(gap - 1) || equal(gap - 2) == false) ++gap;
+  for (auto [count, expected] : {std::pair{inside, inside - 1}, std::pair{gap, -1}}) {
+    EigenRequest request;
+    request.modes = count;
+    request.backend = GetParam();
+    const EigenResult r = solve_eigenproblem(p.K, p.M, request);
+    ASSERT_EQ(r.eigenvalues.size(), count);
+    EXPECT_EQ(r.split_first, expected) << "count " << count;
+  }
 }
 
 TEST_P(Backends, MembraneRepeatedEigenvalues) {
