@@ -149,18 +149,17 @@ BlockLanczosResult block_lanczos(Eigen::Index n, const BlockOperator& c, int nev
     const Eigen::MatrixXd s = ritz.eigenvectors().rowwise().reverse();
     const Eigen::VectorXd theta = ritz.eigenvalues().reverse();
     const Eigen::VectorXd residual = (h.bottomRows(b) * s).colwise().norm().transpose();
-    int converged = 0;
-    while (converged < nev &&
-           residual[converged] <=
-               options.tolerance * std::max(std::pow(kEpsilon, 2.0 / 3.0), std::abs(theta[converged])))
-      ++converged;
+    // The leading pairs whose residual meets the tolerance (Spectra's criterion), up to `limit`.
+    const auto converged_up_to = [&](Eigen::Index from, Eigen::Index limit) {
+      while (from < limit && residual[from] <= options.tolerance * std::max(std::pow(kEpsilon, 2.0 / 3.0),
+                                                                            std::abs(theta[from])))
+        ++from;
+      return from;
+    };
+    Eigen::Index converged = converged_up_to(0, nev);
     if (converged == nev) {
       if (options.all_converged) {
-        const Eigen::Index last = m - b;  // the last block's Ritz values are the least accurate: never theirs
-        while (converged < last &&
-               residual[converged] <=
-                   options.tolerance * std::max(std::pow(kEpsilon, 2.0 / 3.0), std::abs(theta[converged])))
-          ++converged;
+        converged = converged_up_to(converged, m - b);  // never the last block's, the least accurate
       }
       rotate_basis(v, s.leftCols(converged));
       result.values = theta.head(converged);

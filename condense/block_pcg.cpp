@@ -1,7 +1,6 @@
 #include "condense/block_pcg.hpp"
 
 #include <cmath>
-#include <cstdio>
 #include <string>
 
 #include "common/error.hpp"
