@@ -81,10 +81,12 @@ BlockLanczosResult block_lanczos(Eigen::Index n, const BlockOperator& c, int nev
   // max(2 nev, nev + 4 b); whole blocks, and at most what the problem holds (n less the deflated columns,
   // less the next block).
   const Eigen::Index room = n - deflated;
-  Eigen::Index m = std::max<Eigen::Index>(
-      options.basis_size > 0 ? options.basis_size : std::max<Eigen::Index>(2 * nev, nev + 4 * b),
-      nev + 2 * b);
-  m = std::min((m + b - 1) / b * b, (room - b) / b * b);
+  const auto basis_columns = [&](int wanted, int basis_size) {
+    const Eigen::Index size = std::max<Eigen::Index>(
+        basis_size > 0 ? basis_size : std::max<Eigen::Index>(2 * wanted, wanted + 4 * b), wanted + 2 * b);
+    return std::min((size + b - 1) / b * b, (room - b) / b * b);
+  };
+  Eigen::Index m = basis_columns(nev, options.basis_size);
   if (nev < 1 || m < nev + 2 * b) {
     throw Error("block Lanczos: " + std::to_string(nev) + " eigenvalues with blocks of " + std::to_string(b) +
                 " (a basis of at least nev + 3 blocks) do not fit in a problem of " + std::to_string(room) +
@@ -157,10 +159,30 @@ BlockLanczosResult block_lanczos(Eigen::Index n, const BlockOperator& c, int nev
       return from;
     };
     Eigen::Index converged = converged_up_to(0, nev);
-    if (converged == nev) {
-      if (options.all_converged) {
-        converged = converged_up_to(converged, m - b);  // never the last block's, the least accurate
+    bool stop = converged == nev;
+    if (options.grow) {
+      if (stop) converged = converged_up_to(converged, m - b);  // never the last block's, the least accurate
+      const BlockLanczosGrowth more = options.grow(theta, converged);
+      const Eigen::Index grown = more.nev > nev ? basis_columns(more.nev, more.basis_size) : 0;
+      if (more.stop) {
+        stop = true;
+      } else if (grown > m && grown >= more.nev + 2 * b) {
+        // The basis V (m columns, the next block after them) and H take the new columns; the relation
+        // C V = V H + V_next R holds as it is, so the recurrence goes on from the next block at m.
+        v.conservativeResize(Eigen::NoChange, grown + b);  // keeps the first m + b columns
+        Eigen::MatrixXd larger = Eigen::MatrixXd::Zero(grown + b, grown);
+        larger.topLeftCorner(m + b, m) = h;
+        h.swap(larger);
+        k = m;
+        m = grown;
+        nev = more.nev;
+        ++result.growths;
+        continue;
       }
+    } else if (stop && options.all_converged) {
+      converged = converged_up_to(converged, m - b);
+    }
+    if (stop) {
       rotate_basis(v, s.leftCols(converged));
       result.values = theta.head(converged);
       v.conservativeResize(Eigen::NoChange, converged);  // the basis's storage becomes the vectors' (no copy)

@@ -21,6 +21,13 @@ namespace nvh::condense {
 /// y = C x for a block of columns (y is resized by the callee).
 using BlockOperator = std::function<void(const Eigen::MatrixXd& x, Eigen::MatrixXd& y)>;
 
+/// What a run that may grow does next (BlockLanczosOptions::grow).
+struct BlockLanczosGrowth {
+  bool stop = false;   ///< the leading converged pairs suffice: return them now
+  int nev = 0;         ///< otherwise, if more than the present nev: the new number of wanted pairs
+  int basis_size = 0;  ///< and the basis for it, as BlockLanczosOptions::basis_size
+};
+
 struct BlockLanczosOptions {
   int block_size = 8;  ///< columns applied at once
   int basis_size = 0;  ///< the basis before a restart (rounded up to whole blocks); 0: max(2 nev, nev + 4 b)
@@ -32,6 +39,14 @@ struct BlockLanczosOptions {
   /// Return every leading converged Ritz pair of the basis when the nev have converged (at least nev),
   /// not only the nev: those beyond come free.
   bool all_converged = false;
+  /// Optional (requests up to a frequency, whose count is not known beforehand): called whenever the
+  /// basis is full, with all its Ritz values (descending; each is a lower bound of its eigenvalue of C,
+  /// Cauchy's interlacing) and the number of leading ones that have converged. It may stop the run, or
+  /// ask for more pairs: then the basis grows by the new columns and the recurrence continues from the
+  /// next block - nothing is restarted or computed again, where a new run would start from a random block
+  /// and build again what the basis holds. The result holds every leading converged pair, as with
+  /// all_converged. A growth that does not fit in the problem is not taken.
+  std::function<BlockLanczosGrowth(const Eigen::VectorXd& ritz_values, Eigen::Index converged)> grow;
   /// Optional: called after each block with the columns applied so far.
   std::function<void(int products)> progress;
 };
@@ -41,6 +56,7 @@ struct BlockLanczosResult {
   Eigen::MatrixXd vectors;  ///< their eigenvectors, orthonormal
   int products = 0;         ///< columns C was applied to
   int restarts = 0;
+  int growths = 0;  ///< larger requests taken on (options.grow)
 };
 
 /// The `nev` largest eigenpairs of the symmetric operator C of size n. Throws nvh::Error if they do not

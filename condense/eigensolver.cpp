@@ -34,6 +34,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <iomanip>
 #include <limits>
 #include <memory>
@@ -445,11 +446,14 @@ RawModes solve_spectra(ShiftInvertOperator& op, int nev, double tolerance,
 /// lambda = sigma + 1 / nu and x = P^T L^-T y; `deflate` and `vectors_of_c` as there. `all_converged`
 /// (fmax passes): every leading converged Ritz pair of the basis, at least nev - the basis holds nev + 7
 /// blocks, and the pairs beyond nev that have converged by then come free, so the pass reaches further.
-RawModes solve_block_lanczos(ShiftInvertOperator& op, int nev, double tolerance,
-                             const Eigen::MatrixXd* deflate = nullptr,
-                             Eigen::MatrixXd* vectors_of_c = nullptr, bool all_converged = false) {
+/// `grow` (an fmax request's first run): BlockLanczosOptions::grow, on the values of C.
+RawModes solve_block_lanczos(
+    ShiftInvertOperator& op, int nev, double tolerance, const Eigen::MatrixXd* deflate = nullptr,
+    Eigen::MatrixXd* vectors_of_c = nullptr, bool all_converged = false,
+    std::function<BlockLanczosGrowth(const Eigen::VectorXd&, Eigen::Index)> grow = {}) {
   BlockLanczosOptions options;
   options.all_converged = all_converged;
+  options.grow = std::move(grow);
   options.tolerance = tolerance;
   options.deflate = deflate;
   options.block_size = block_lanczos_block(nev);
@@ -1011,6 +1015,11 @@ EigenResult solve_eigenproblem(SparseMatrix&& K, SparseMatrix&& M, const EigenRe
     const bool deflating =
         request.backend == EigenBackend::kSpectra || request.backend == EigenBackend::kBlockLanczos;
     Eigen::MatrixXd last_c;
+    // An fmax request's block runs grow their count in the same Krylov space until the band is covered
+    // (band_growth below: the growth of a run that starts with `nev`); a deflated pass (after a growth
+    // that did not fit) starts anew.
+    std::function<std::function<BlockLanczosGrowth(const Eigen::VectorXd&, Eigen::Index)>(int nev)>
+        band_growth;
     const auto solve = [&](int nev, const Eigen::MatrixXd* deflate = nullptr) {
       op.start_run(
           request.backend == EigenBackend::kBlockLanczos ? block_lanczos_basis(nev) : lanczos_size(nev, n),
@@ -1018,7 +1027,7 @@ EigenResult solve_eigenproblem(SparseMatrix&& K, SparseMatrix&& M, const EigenRe
       if (request.backend == EigenBackend::kArpack) return solve_arpack(op, pencil, nev, request.tolerance);
       if (request.backend == EigenBackend::kBlockLanczos)
         return solve_block_lanczos(op, nev, request.tolerance, deflate, by_count ? nullptr : &last_c,
-                                   !by_count);
+                                   !by_count, band_growth && !deflate ? band_growth(nev) : nullptr);
       return solve_spectra(op, nev, request.tolerance, deflate, by_count ? nullptr : &last_c);
     };
     // An automatic shift is a guess. If all wanted eigenvalues turn out to lie far below |sigma|, their
@@ -1028,16 +1037,23 @@ EigenResult solve_eigenproblem(SparseMatrix&& K, SparseMatrix&& M, const EigenRe
     // the shift to -lambda_1 (first elastic value; refactorize) and solve again. A band that reaches
     // past |sigma| is spread well enough (206 modes of a 60,006-DOF beam: residuals 5e-9 in one pass).
     const double lambda_floor = 1e-12 * pencil.k_norm1 / max_mass;
-    const auto shift_fits = [&](const RawModes& found) {
+    // The shift the eigenvalues found call for, if it is not the present one (NaN if that one fits).
+    const auto better_shift = [&](const Eigen::VectorXd& found) {
+      constexpr double kFits = std::numeric_limits<double>::quiet_NaN();
       // The user's shift is kept, and so is shift 0 on a given factorization.
-      if (request.shift < 0.0 || request.stiffness_factor || found.values.size() == 0) return true;
+      if (request.shift < 0.0 || request.stiffness_factor || found.size() == 0) return kFits;
       const double sigma = std::abs(op.shift());
-      if (found.values.maxCoeff() >= 0.1 * sigma) return true;
+      if (found.maxCoeff() >= 0.1 * sigma) return kFits;
       double first = std::numeric_limits<double>::infinity();
-      for (Eigen::Index i = 0; i < found.values.size(); ++i)
-        if (found.values[i] > 1e-6 * sigma) first = std::min(first, found.values[i]);
-      if (!std::isfinite(first)) return true;  // only rigid-body modes found: nothing to place
-      op.set_shift(-std::max(first, lambda_floor));
+      for (Eigen::Index i = 0; i < found.size(); ++i)
+        if (found[i] > 1e-6 * sigma) first = std::min(first, found[i]);
+      if (!std::isfinite(first)) return kFits;  // only rigid-body modes found: nothing to place
+      return -std::max(first, lambda_floor);
+    };
+    const auto shift_fits = [&](const RawModes& found) {
+      const double moved = better_shift(found.values);
+      if (std::isnan(moved)) return true;
+      op.set_shift(moved);
       return false;
     };
     if (by_count) {
@@ -1072,6 +1088,46 @@ EigenResult solve_eigenproblem(SparseMatrix&& K, SparseMatrix&& M, const EigenRe
       // modes' (measured: the piston to 30 kHz 185 -> 167 solves, the engine block to 5 kHz, 97 modes, 247 ->
       // 218).
       Eigen::MatrixXd found_c;  // eigenvectors of C of the modes in raw
+      // The next count when the highest of `found` (eigenvalues) lies below fmax: the count extrapolated
+      // to fmax times a margin, at least `at_least` and one more than found, at most n - 2.
+      const auto next_count = [&](double at_least, double margin, const Eigen::VectorXd& found) {
+        const double next =
+            std::max(at_least, std::ceil(margin * found.size() *
+                                         std::pow(lambda_max / found.maxCoeff(), growth_exponent(found))));
+        return static_cast<int>(std::min(std::max<double>(next, found.size() + 1), n - 2.0));
+      };
+      if (request.backend == EigenBackend::kBlockLanczos) {
+        // Measured (bench/README.md): the engine block to 5 kHz, 60 modes, 558 solves in three passes,
+        // 276 in one growing run (the count of 60 itself: 270).
+        band_growth = [&](int first) {
+          return [&, wanted = first](const Eigen::VectorXd& theta,
+                                     Eigen::Index converged) mutable -> BlockLanczosGrowth {
+            // The Ritz values as eigenvalues, lambda = sigma + 1 / theta, ascending; each is an upper
+            // bound of its eigenvalue (theta <= 0: none in reach).
+            const Eigen::VectorXd ritz =
+                (theta.array() > 0).select(op.shift() + theta.array().inverse(), lambda_max * 2).matrix();
+            const Eigen::VectorXd found = ritz.head(converged);
+            // The band is covered once a converged value lies beyond it (the converged ones are the
+            // leading ones: none below is missing). A shift to move ends the run too (the loop below
+            // solves again).
+            if (converged > 0 && found.maxCoeff() > lambda_max) return {.stop = true};
+            if (converged >= wanted && !std::isnan(better_shift(found))) return {.stop = true};
+            // At least as many modes lie in the band as Ritz values do (bounds from above): grow early
+            // to those, with a block to spare; once the wanted ones have converged below fmax,
+            // extrapolate from them as the passes do, with less margin (a growth costs no new run).
+            const int b = block_lanczos_block(first);
+            const Eigen::Index ritz_in_band = (ritz.array() <= lambda_max).count();
+            int next = static_cast<int>(std::clamp<Eigen::Index>(ritz_in_band + b, wanted, n - 2));
+            if (converged >= wanted)
+              next = std::max(next, next_count(static_cast<double>(converged + b), 1.05, found));
+            if (next <= wanted) return {};
+            op.start_run(block_lanczos_basis(next) - block_lanczos_basis(wanted), next - wanted,
+                         &request.progress);
+            wanted = next;
+            return {.nev = wanted, .basis_size = block_lanczos_basis(wanted)};
+          };
+        };
+      }
       for (int nev = std::min(kInitialModes, n - 2), pass = 0;; ++pass) {
         if (pass > 0 && deflating) {
           const Eigen::Index k0 = raw.values.size();
@@ -1094,10 +1150,8 @@ EigenResult solve_eigenproblem(SparseMatrix&& K, SparseMatrix&& M, const EigenRe
           dense = true;  // fmax lies above (nearly) all modes of the model
           break;
         }
-        const double next = std::max(
-            1.5 * nev, std::ceil(1.15 * nev * std::pow(lambda_max / highest, growth_exponent(raw.values))));
         // A block run may have returned more modes than it was asked for (solve_block_lanczos): ask beyond.
-        nev = static_cast<int>(std::min(std::max<double>(next, raw.values.size() + 1), n - 2.0));
+        nev = next_count(1.5 * nev, 1.15, raw.values);
       }
     }
     result.shift = op.shift();
