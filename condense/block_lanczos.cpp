@@ -163,21 +163,24 @@ BlockLanczosResult block_lanczos(Eigen::Index n, const BlockOperator& c, int nev
     if (options.grow) {
       if (stop) converged = converged_up_to(converged, m - b);  // never the last block's, the least accurate
       const BlockLanczosGrowth more = options.grow(theta, converged);
-      const Eigen::Index grown = more.nev > nev ? basis_columns(more.nev, more.basis_size) : 0;
+      const Eigen::Index grown = std::max(m, more.nev > nev ? basis_columns(more.nev, more.basis_size) : 0);
       if (more.stop) {
         stop = true;
-      } else if (grown > m && grown >= more.nev + 2 * b) {
-        // The basis V (m columns, the next block after them) and H take the new columns; the relation
-        // C V = V H + V_next R holds as it is, so the recurrence goes on from the next block at m.
-        v.conservativeResize(Eigen::NoChange, grown + b);  // keeps the first m + b columns
-        Eigen::MatrixXd larger = Eigen::MatrixXd::Zero(grown + b, grown);
-        larger.topLeftCorner(m + b, m) = h;
-        h.swap(larger);
-        k = m;
-        m = grown;
+      } else if (more.nev > nev && grown >= more.nev + 2 * b) {
         nev = more.nev;
+        stop = converged >= nev;
         ++result.growths;
-        continue;
+        if (grown > m) {
+          // The basis V (m columns, the next block after them) and H take the new columns; the relation
+          // C V = V H + V_next R holds as it is, so the recurrence goes on from the next block at m.
+          v.conservativeResize(Eigen::NoChange, grown + b);  // keeps the first m + b columns
+          Eigen::MatrixXd larger = Eigen::MatrixXd::Zero(grown + b, grown);
+          larger.topLeftCorner(m + b, m) = h;
+          h.swap(larger);
+          k = m;
+          m = grown;
+          continue;
+        }
       }
     } else if (stop && options.all_converged) {
       converged = converged_up_to(converged, m - b);

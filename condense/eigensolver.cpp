@@ -1098,10 +1098,10 @@ EigenResult solve_eigenproblem(SparseMatrix&& K, SparseMatrix&& M, const EigenRe
       };
       if (request.backend == EigenBackend::kBlockLanczos) {
         // Measured (bench/README.md): the engine block to 5 kHz, 60 modes, 558 solves in three passes,
-        // 276 in one growing run (the count of 60 itself: 270).
+        // 270 in one growing run, as the count of 60 itself.
         band_growth = [&](int first) {
-          return [&, wanted = first](const Eigen::VectorXd& theta,
-                                     Eigen::Index converged) mutable -> BlockLanczosGrowth {
+          return [&, first, wanted = first](const Eigen::VectorXd& theta,
+                                            Eigen::Index converged) mutable -> BlockLanczosGrowth {
             // The Ritz values as eigenvalues, lambda = sigma + 1 / theta, ascending; each is an upper
             // bound of its eigenvalue (theta <= 0: none in reach).
             const Eigen::VectorXd ritz =
