@@ -316,6 +316,12 @@ class ShiftInvertOperator {
     run_expected_ = basis + 1 + run_per_restart_;
     progress_ = progress && *progress ? *progress : EigenProgress{};
   }
+  /// The run takes on a larger request (an fmax band's growing block run): `added` more basis columns and
+  /// then `per_restart` solves per restart are expected; the count goes on (one bar for the run).
+  void extend_run(int added, int per_restart) {
+    run_expected_ = std::max(run_expected_, solves_ - run_start_) + added;
+    run_per_restart_ = std::max(1, per_restart);
+  }
 
  private:
   const ConstrainedFactor& factor() const { return given_ ? *given_ : *factor_; }
@@ -1121,8 +1127,8 @@ EigenResult solve_eigenproblem(SparseMatrix&& K, SparseMatrix&& M, const EigenRe
             if (converged >= wanted)
               next = std::max(next, next_count(static_cast<double>(converged + b), 1.05, found));
             if (next <= wanted) return {};
-            op.start_run(block_lanczos_basis(next) - block_lanczos_basis(wanted), next - wanted,
-                         &request.progress);
+            op.extend_run(block_lanczos_basis(next) - block_lanczos_basis(wanted),
+                          (block_lanczos_basis(next) - next) / 2);
             wanted = next;
             return {.nev = wanted, .basis_size = block_lanczos_basis(wanted)};
           };

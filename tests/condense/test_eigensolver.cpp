@@ -214,6 +214,25 @@ TEST(EigenSolver, ProgressFollowsTheBlockLanczosRun) {
   EXPECT_GT(calls.back().first, r.matrix_operations - 8);
 }
 
+TEST(EigenSolver, ProgressOfABandIsOneGrowingCount) {
+  // An fmax request's block run grows its request (57 modes from a first 20): the count goes on rising
+  // through the growths - one bar in the log, not a new one per growth - and its total only grows.
+  const Problem p = chain(2000, false);
+  const std::vector<double> reference = chain_eigenvalues(2000, false);
+  EigenRequest request;
+  request.fmax_hz = 0.5 * (frequency_hz(reference[56]) + frequency_hz(reference[57]));
+  std::vector<std::pair<int, int>> calls;
+  request.progress = [&](int done, int expected) { calls.emplace_back(done, expected); };
+  const EigenResult r = solve_eigenproblem(p.K, p.M, request);
+  ASSERT_EQ(r.eigenvalues.size(), 57);
+  ASSERT_GE(calls.size(), 3u);
+  for (std::size_t i = 1; i < calls.size(); ++i) {
+    EXPECT_GT(calls[i].first, calls[i - 1].first);
+    EXPECT_GE(calls[i].second, calls[i - 1].second);
+  }
+  EXPECT_GT(calls.back().first, r.matrix_operations - 8);
+}
+
 TEST_P(Backends, FreeFreeChainRigidMode) {
   const int n = chain_size(GetParam());
   const Problem p = chain(n, true);
