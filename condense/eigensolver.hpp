@@ -103,8 +103,10 @@ double frequency_hz(double eigenvalue);
 /// Eigenvalue omega^2 of a frequency in Hz.
 double eigenvalue_of_hz(double hz);
 /// Exponent p of the mode count N(lambda) ~ lambda^p, from the eigenvalues found (any order): between the
-/// middle one and the highest, p = ln(N_top / N_mid) / ln(lambda_top / lambda_mid), clamped to [1/2, 3/2]
-/// (beam to solid); 1/2 if the modes are too few or still rigid. Sizes the next pass of an fmax request.
+/// middle one and the highest, p = ln(N_top / N_mid) / ln(lambda_top / lambda_mid), clamped to [1/4, 3/2]
+/// (Weyl: 1/4 for beams in bending, a fourth-order operator in one dimension, lambda ~ k^4; 1/2 for axial and
+/// torsional waves and for plates; 1 for shells; 3/2 for solids); 1/2 if the modes are too few or still
+/// rigid. Sizes the next pass of an fmax request.
 double growth_exponent(const Eigen::VectorXd& values);
 
 }  // namespace nvh::condense
