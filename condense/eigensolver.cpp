@@ -452,7 +452,7 @@ RawModes solve_spectra(ShiftInvertOperator& op, int nev, double tolerance,
 /// lambda = sigma + 1 / nu and x = P^T L^-T y; `deflate` and `vectors_of_c` as there. `all_converged`
 /// (fmax passes): every leading converged Ritz pair of the basis, at least nev - the basis holds nev + 7
 /// blocks, and the pairs beyond nev that have converged by then come free, so the pass reaches further.
-/// `grow` (an fmax request's first run): BlockLanczosOptions::grow, on the values of C.
+/// `grow` (an fmax request's runs that are not deflated): BlockLanczosOptions::grow, on the values of C.
 RawModes solve_block_lanczos(
     ShiftInvertOperator& op, int nev, double tolerance, const Eigen::MatrixXd* deflate = nullptr,
     Eigen::MatrixXd* vectors_of_c = nullptr, bool all_converged = false,
