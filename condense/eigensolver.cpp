@@ -1021,21 +1021,6 @@ EigenResult solve_eigenproblem(SparseMatrix&& K, SparseMatrix&& M, const EigenRe
     const bool deflating =
         request.backend == EigenBackend::kSpectra || request.backend == EigenBackend::kBlockLanczos;
     Eigen::MatrixXd last_c;
-    // An fmax request's block runs grow their count in the same Krylov space until the band is covered
-    // (band_growth below: the growth of a run that starts with `nev`); a deflated pass (after a growth
-    // that did not fit) starts anew.
-    std::function<std::function<BlockLanczosGrowth(const Eigen::VectorXd&, Eigen::Index)>(int nev)>
-        band_growth;
-    const auto solve = [&](int nev, const Eigen::MatrixXd* deflate = nullptr) {
-      op.start_run(
-          request.backend == EigenBackend::kBlockLanczos ? block_lanczos_basis(nev) : lanczos_size(nev, n),
-          nev, &request.progress);
-      if (request.backend == EigenBackend::kArpack) return solve_arpack(op, pencil, nev, request.tolerance);
-      if (request.backend == EigenBackend::kBlockLanczos)
-        return solve_block_lanczos(op, nev, request.tolerance, deflate, by_count ? nullptr : &last_c,
-                                   !by_count, band_growth && !deflate ? band_growth(nev) : nullptr);
-      return solve_spectra(op, nev, request.tolerance, deflate, by_count ? nullptr : &last_c);
-    };
     // An automatic shift is a guess. If all wanted eigenvalues turn out to lie far below |sigma|, their
     // transformed values 1 / (lambda - sigma) crowd together and the vectors converge poorly (seen:
     // residual 1e-2 on a 384-DOF cantilever with sigma = -9e7 and 8 modes up to lambda = 2.4e6). Ritz
@@ -1055,6 +1040,62 @@ EigenResult solve_eigenproblem(SparseMatrix&& K, SparseMatrix&& M, const EigenRe
         if (found[i] > 1e-6 * sigma) first = std::min(first, found[i]);
       if (!std::isfinite(first)) return kFits;  // only rigid-body modes found: nothing to place
       return -std::max(first, lambda_floor);
+    };
+    // The next count when the highest of `found` (eigenvalues) lies below fmax: the count extrapolated
+    // to fmax times a margin, at least `at_least` and one more than found, at most 4 times found (an
+    // extrapolation from the lowest few modes over decades of frequency misjudges: the beam of
+    // bench_condense_beam to 9.9 kHz asked for 1,149 modes after 20, for 206 in the band, and Spectra
+    // took 267 s and 2.3 GB on it) and n - 2.
+    const auto next_count = [&](double at_least, double margin, const Eigen::VectorXd& found) {
+      const double extrapolated =
+          margin * found.size() * std::pow(lambda_max / found.maxCoeff(), growth_exponent(found));
+      const double next = std::max(at_least, std::ceil(std::min(extrapolated, 4.0 * found.size())));
+      return static_cast<int>(std::min(std::max<double>(next, found.size() + 1), n - 2.0));
+    };
+    // An fmax request's block runs grow their count in the same Krylov space until the band is covered
+    // (the growth of a run that starts with `first` wanted modes); a deflated pass (after a growth that
+    // did not fit) starts anew. Measured (bench/README.md): the engine block to 5 kHz, 60 modes, 558
+    // solves in three passes, 270 in one growing run, as the count of 60 itself.
+    const auto band_growth = [&](int first) {
+      return [&, first, wanted = first](const Eigen::VectorXd& theta,
+                                        Eigen::Index converged) mutable -> BlockLanczosGrowth {
+        // The Ritz values as eigenvalues, lambda = sigma + 1 / theta, ascending; each is an upper
+        // bound of its eigenvalue (theta <= 0: none in reach).
+        const Eigen::VectorXd ritz =
+            (theta.array() > 0).select(op.shift() + theta.array().inverse(), lambda_max * 2).matrix();
+        const Eigen::VectorXd found = ritz.head(converged);
+        // The band is covered once a converged value lies beyond it (the converged ones are the
+        // leading ones: none below is missing). A shift to move ends the run too (the loop below
+        // solves again).
+        if (converged > 0 && found.maxCoeff() > lambda_max) return {.stop = true};
+        if (converged >= wanted && !std::isnan(better_shift(found))) return {.stop = true};
+        // At least as many modes lie in the band as Ritz values do (bounds from above): grow early
+        // to those, with a block to spare; once the wanted ones have converged below fmax,
+        // extrapolate from them as the passes do, with less margin (a growth costs no new run).
+        const int b = block_lanczos_block(first);
+        const Eigen::Index ritz_in_band = (ritz.array() <= lambda_max).count();
+        int next = static_cast<int>(std::clamp<Eigen::Index>(ritz_in_band + b, wanted, n - 2));
+        if (converged >= wanted)
+          next = std::max(next, next_count(static_cast<double>(converged + b), 1.05, found));
+        if (next <= wanted) return {};
+        op.extend_run(block_lanczos_basis(next) - block_lanczos_basis(wanted),
+                      (block_lanczos_basis(next) - next) / 2);
+        wanted = next;
+        return {.nev = wanted, .basis_size = block_lanczos_basis(wanted)};
+      };
+    };
+    const auto solve = [&](int nev, const Eigen::MatrixXd* deflate = nullptr) {
+      op.start_run(
+          request.backend == EigenBackend::kBlockLanczos ? block_lanczos_basis(nev) : lanczos_size(nev, n),
+          nev, &request.progress);
+      if (request.backend == EigenBackend::kArpack) return solve_arpack(op, pencil, nev, request.tolerance);
+      if (request.backend == EigenBackend::kBlockLanczos) {
+        std::function<BlockLanczosGrowth(const Eigen::VectorXd&, Eigen::Index)> grow;
+        if (!by_count && !deflate) grow = band_growth(nev);
+        return solve_block_lanczos(op, nev, request.tolerance, deflate, by_count ? nullptr : &last_c,
+                                   !by_count, std::move(grow));
+      }
+      return solve_spectra(op, nev, request.tolerance, deflate, by_count ? nullptr : &last_c);
     };
     const auto shift_fits = [&](const RawModes& found) {
       const double moved = better_shift(found.values);
@@ -1094,49 +1135,6 @@ EigenResult solve_eigenproblem(SparseMatrix&& K, SparseMatrix&& M, const EigenRe
       // modes' (measured: the piston to 30 kHz 185 -> 167 solves, the engine block to 5 kHz, 97 modes, 247 ->
       // 218).
       Eigen::MatrixXd found_c;  // eigenvectors of C of the modes in raw
-      // The next count when the highest of `found` (eigenvalues) lies below fmax: the count extrapolated
-      // to fmax times a margin, at least `at_least` and one more than found, at most 4 times found (an
-      // extrapolation from the lowest few modes over decades of frequency misjudges: the beam of
-      // bench_condense_beam to 9.9 kHz asked for 1,149 modes after 20, for 206 in the band, and Spectra
-      // took 267 s and 2.3 GB on it) and n - 2.
-      const auto next_count = [&](double at_least, double margin, const Eigen::VectorXd& found) {
-        const double extrapolated =
-            margin * found.size() * std::pow(lambda_max / found.maxCoeff(), growth_exponent(found));
-        const double next = std::max(at_least, std::ceil(std::min(extrapolated, 4.0 * found.size())));
-        return static_cast<int>(std::min(std::max<double>(next, found.size() + 1), n - 2.0));
-      };
-      if (request.backend == EigenBackend::kBlockLanczos) {
-        // Measured (bench/README.md): the engine block to 5 kHz, 60 modes, 558 solves in three passes,
-        // 270 in one growing run, as the count of 60 itself.
-        band_growth = [&](int first) {
-          return [&, first, wanted = first](const Eigen::VectorXd& theta,
-                                            Eigen::Index converged) mutable -> BlockLanczosGrowth {
-            // The Ritz values as eigenvalues, lambda = sigma + 1 / theta, ascending; each is an upper
-            // bound of its eigenvalue (theta <= 0: none in reach).
-            const Eigen::VectorXd ritz =
-                (theta.array() > 0).select(op.shift() + theta.array().inverse(), lambda_max * 2).matrix();
-            const Eigen::VectorXd found = ritz.head(converged);
-            // The band is covered once a converged value lies beyond it (the converged ones are the
-            // leading ones: none below is missing). A shift to move ends the run too (the loop below
-            // solves again).
-            if (converged > 0 && found.maxCoeff() > lambda_max) return {.stop = true};
-            if (converged >= wanted && !std::isnan(better_shift(found))) return {.stop = true};
-            // At least as many modes lie in the band as Ritz values do (bounds from above): grow early
-            // to those, with a block to spare; once the wanted ones have converged below fmax,
-            // extrapolate from them as the passes do, with less margin (a growth costs no new run).
-            const int b = block_lanczos_block(first);
-            const Eigen::Index ritz_in_band = (ritz.array() <= lambda_max).count();
-            int next = static_cast<int>(std::clamp<Eigen::Index>(ritz_in_band + b, wanted, n - 2));
-            if (converged >= wanted)
-              next = std::max(next, next_count(static_cast<double>(converged + b), 1.05, found));
-            if (next <= wanted) return {};
-            op.extend_run(block_lanczos_basis(next) - block_lanczos_basis(wanted),
-                          (block_lanczos_basis(next) - next) / 2);
-            wanted = next;
-            return {.nev = wanted, .basis_size = block_lanczos_basis(wanted)};
-          };
-        };
-      }
       for (int nev = std::min(kInitialModes, n - 2), pass = 0;; ++pass) {
         if (pass > 0 && deflating) {
           const Eigen::Index k0 = raw.values.size();
