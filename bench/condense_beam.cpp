@@ -70,12 +70,27 @@ Options parse(int argc, char** argv) {
       if (i + 1 >= argc) throw Error("option " + a + " needs a value");
       return argv[++i];
     };
+    // The whole value as a number, or an error naming the option and the value.
+    auto number = [&]() -> double {
+      const std::string text = value();
+      std::size_t used = 0;
+      double x = 0;
+      try {
+        x = std::stod(text, &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used == 0 || used != text.size()) throw Error(a + " needs a number, got '" + text + "'");
+      return x;
+    };
     if (a == "--elements") {
-      o.elements = std::stoi(value());
+      o.elements = static_cast<int>(number());
     } else if (a == "--modes") {
-      o.modes = std::stoi(value());
+      o.modes = static_cast<int>(number());
     } else if (a == "--fmax") {
-      o.fmax_hz = std::stod(value());
+      o.fmax_hz = number();
+      if (!(o.fmax_hz > 0.0))
+        throw Error("--fmax must be a positive frequency in Hz, got " + std::string(argv[i]));
     } else if (a == "--backend") {
       const std::string b = value();
       if (b != "spectra" && b != "block-lanczos" && b != "arpack")
