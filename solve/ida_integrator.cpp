@@ -25,6 +25,7 @@
 #include "solve/integrator.hpp"
 #include "solve/jacobian.hpp"
 #include "solve/newton_matrix_solver.hpp"
+#include "solve/sundials_kernels.hpp"
 #include "solve/split_integrator.hpp"
 
 namespace nvh::solve {
@@ -52,6 +53,9 @@ class IdaIntegrator final : public Integrator {
     yp_ = N_VNew_Serial(n, ctx_);
     work_ = N_VNew_Serial(n, ctx_);
     work2_ = N_VNew_Serial(n, ctx_);
+    // Debian's SUNDIALS is built without optimization: IDA's vector arithmetic (every vector it clones from
+    // y_) runs on this build's kernels instead (sundials_kernels.hpp).
+    for (N_Vector v : {y_, yp_, work_, work2_}) use_fast_serial_kernels(v);
     view(y_) = y0;
     view(yp_) = yp0;
     mem_ = IDACreate(ctx_);
@@ -84,6 +88,7 @@ class IdaIntegrator final : public Integrator {
     check(IDASetMaxNumSteps(mem_, 100000000L), "IDASetMaxNumSteps");
     const auto& p = jacobian_.pattern();
     matrix_ = SUNSparseMatrix(n, n, std::max(1, p.nonzeros()), CSC_MAT, ctx_);
+    use_fast_sparse_kernels(matrix_);
     sunindextype* colptr = SUNSparseMatrix_IndexPointers(matrix_);
     sunindextype* rowval = SUNSparseMatrix_IndexValues(matrix_);
     for (int c = 0; c <= n; ++c) colptr[c] = p.column_start[c];

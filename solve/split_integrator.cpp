@@ -39,6 +39,7 @@
 #include "common/error.hpp"
 #include "common/interrupt.hpp"
 #include "solve/newton_matrix_solver.hpp"
+#include "solve/sundials_kernels.hpp"
 
 namespace nvh::solve {
 
@@ -446,6 +447,7 @@ class SplitIntegrator final : public Integrator {
     g.up = N_VNew_Serial(g.m, g.ctx);
     g.work = N_VNew_Serial(g.m, g.ctx);
     g.work2 = N_VNew_Serial(g.m, g.ctx);
+    for (N_Vector v : {g.u, g.up, g.work, g.work2}) use_fast_serial_kernels(v);  // ida_integrator.cpp says why
     fill_start(g);
     g.mem = IDACreate(g.ctx);
     check(IDAInit(g.mem, &SplitIntegrator::residual, t_, g.u, g.up), "IDAInit");
@@ -462,6 +464,7 @@ class SplitIntegrator final : public Integrator {
     check(IDASetDeltaCjLSetup(g.mem, s_.jacobian_cj_change), "IDASetDeltaCjLSetup");
     check(IDASetMaxNumSteps(g.mem, 100000000L), "IDASetMaxNumSteps");
     g.matrix = SUNSparseMatrix(g.m, g.m, std::max<sunindextype>(1, g.rows.size()), CSC_MAT, g.ctx);
+    use_fast_sparse_kernels(g.matrix);
     const std::vector<int> start(g.column_start.begin(), g.column_start.end()),
         rows(g.rows.begin(), g.rows.end());
     const NewtonSolver kind = choose_newton_solver(s_.linear_solver, g.m, start, rows).kind;
