@@ -94,7 +94,7 @@ class IdaIntegrator final : public Integrator {
     for (int c = 0; c <= n; ++c) colptr[c] = p.column_start[c];
     for (int k = 0; k < p.nonzeros(); ++k) rowval[k] = p.rows[k];
     newton_solver_ = choose_newton_solver(s.linear_solver, p.n, p.column_start, p.rows).kind;
-    solver_ = make_newton_solver(newton_solver_, y_, matrix_, ctx_);
+    solver_ = make_newton_solver(newton_solver_, matrix_, ctx_);
     check(IDASetLinearSolver(mem_, solver_, matrix_), "IDASetLinearSolver");
     check(IDASetJacFn(mem_, &IdaIntegrator::jacobian), "IDASetJacFn");
     check(IDASetErrHandlerFn(mem_, &IdaIntegrator::quiet, this), "IDASetErrHandlerFn");

@@ -2,11 +2,11 @@
 #include "solve/newton_matrix_solver.hpp"
 
 #include <klu.h>
-#include <sunlinsol/sunlinsol_klu.h>
 #include <sunmatrix/sunmatrix_sparse.h>
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <new>
 #include <vector>
 
@@ -168,7 +168,119 @@ int dense_free(SUNLinearSolver s) {
   return SUNLS_SUCCESS;
 }
 
+// ------------------------------------------------------------------ sparse LU: KLU
+/// KLU on IDA's CSC matrix (sunindextype = long: KLU's "l" interface), in place of SUNDIALS' SUNLinSol_KLU.
+/// The symbolic analysis (BTF, then AMD on each block: KLU's default) is made once for the model's fixed
+/// pattern; SUNDIALS' solver analyzed again (COLAMD) after every IDAReInit, i.e. at every contact event. The
+/// first setup after IDA's start or a restart factorizes with partial pivoting; the others refactorize with
+/// the last pivot order, and factorize afresh when that fails or its reciprocal condition estimate falls
+/// below uround^(2/3) (SUNDIALS' rule, less its klu_condest, which takes several solves). Measured on the
+/// bridge scene with the flexible rocker (bench/README.md "IDA's vector kernels and KLU"): SUNDIALS' solver
+/// let the bridge's tilt between the valves - a lightly damped mode that the pads alone hold, exactly 0 by
+/// the scene's symmetry - grow from round-off (1e-30 rad/s) to 0.1 rad/s within 120 cam deg under BDF order
+/// 5, unseen by the error test until it changed the cam force by 7 %; with this one it stays at 1e-27 rad/s,
+/// as with the dense solver. No iterative refinement (as SUNDIALS' KLU): one more solve and product per
+/// iteration cost 7 % on the valvetrain and changed nothing measured.
+struct SparseLu {
+  long n = 0;
+  klu_l_common common{};
+  klu_l_symbolic* symbolic = nullptr;
+  klu_l_numeric* numeric = nullptr;
+  sunindextype last_flag = 0;
+  ~SparseLu() {
+    if (numeric) klu_l_free_numeric(&numeric, &common);
+    if (symbolic) klu_l_free_symbolic(&symbolic, &common);
+  }
+};
+
+SparseLu& klu_content(SUNLinearSolver s) {
+  return *static_cast<SparseLu*>(s->content);
+}
+/// IDA initializes its linear solver at the start and after every IDAReInit (each contact event): the next
+/// setup factorizes with fresh pivots (the symbolic analysis is kept).
+int klu_initialize(SUNLinearSolver s) {
+  SparseLu& k = klu_content(s);
+  if (k.numeric) klu_l_free_numeric(&k.numeric, &k.common);
+  k.last_flag = SUNLS_SUCCESS;
+  return SUNLS_SUCCESS;
+}
+
+int klu_setup(SUNLinearSolver s, SUNMatrix a) {
+  SparseLu& k = klu_content(s);
+  if (SUNMatGetID(a) != SUNMATRIX_SPARSE || SUNSparseMatrix_SparseType(a) != CSC_MAT ||
+      SUNSparseMatrix_Rows(a) != k.n || SUNSparseMatrix_Columns(a) != k.n) {
+    k.last_flag = SUNLS_ILL_INPUT;
+    return SUNLS_ILL_INPUT;
+  }
+  auto* start = reinterpret_cast<long*>(SUNSparseMatrix_IndexPointers(a));
+  auto* row = reinterpret_cast<long*>(SUNSparseMatrix_IndexValues(a));
+  double* value = SUNSparseMatrix_Data(a);
+  if (k.symbolic == nullptr) {
+    k.symbolic = klu_l_analyze(k.n, start, row, &k.common);
+    if (k.symbolic == nullptr) {
+      k.last_flag = SUNLS_PACKAGE_FAIL_UNREC;
+      return SUNLS_PACKAGE_FAIL_UNREC;
+    }
+  }
+  bool fresh = k.numeric == nullptr;
+  if (!fresh) {
+    const bool refactored = klu_l_refactor(start, row, value, k.symbolic, k.numeric, &k.common) != 0;
+    fresh = !refactored || klu_l_rcond(k.symbolic, k.numeric, &k.common) == 0 ||
+            k.common.rcond < std::pow(std::numeric_limits<double>::epsilon(), 2.0 / 3.0);
+    if (fresh) klu_l_free_numeric(&k.numeric, &k.common);
+  }
+  if (fresh) {
+    k.numeric = klu_l_factor(start, row, value, k.symbolic, &k.common);
+    if (k.numeric == nullptr) {  // singular: recoverable, IDA takes a shorter step
+      k.last_flag = k.common.status == KLU_SINGULAR ? SUNLS_LUFACT_FAIL : SUNLS_PACKAGE_FAIL_UNREC;
+      return static_cast<int>(k.last_flag);
+    }
+  }
+  k.last_flag = SUNLS_SUCCESS;
+  return SUNLS_SUCCESS;
+}
+
+int klu_solve(SUNLinearSolver s, SUNMatrix, N_Vector x, N_Vector b, realtype) {
+  SparseLu& k = klu_content(s);
+  N_VScale(1.0, b, x);
+  double* v = N_VGetArrayPointer(x);
+  if (klu_l_solve(k.symbolic, k.numeric, k.n, 1, v, &k.common) == 0) {
+    k.last_flag = SUNLS_PACKAGE_FAIL_UNREC;
+    return SUNLS_PACKAGE_FAIL_UNREC;
+  }
+  k.last_flag = SUNLS_SUCCESS;
+  return SUNLS_SUCCESS;
+}
+
+sunindextype klu_last_flag(SUNLinearSolver s) {
+  return klu_content(s).last_flag;
+}
+int klu_free(SUNLinearSolver s) {
+  if (s == nullptr) return SUNLS_SUCCESS;
+  delete static_cast<SparseLu*>(s->content);
+  s->content = nullptr;
+  SUNLinSolFreeEmpty(s);
+  return SUNLS_SUCCESS;
+}
+
 }  // namespace
+
+SUNLinearSolver make_sparse_lu_solver(long unknowns, SUNContext ctx) {
+  SUNLinearSolver s = SUNLinSolNewEmpty(ctx);
+  if (s == nullptr) throw std::bad_alloc();
+  s->ops->gettype = dense_type;  // direct
+  s->ops->getid = dense_id;      // custom
+  s->ops->initialize = klu_initialize;
+  s->ops->setup = klu_setup;
+  s->ops->solve = klu_solve;
+  s->ops->lastflag = klu_last_flag;
+  s->ops->free = klu_free;
+  auto* k = new SparseLu;
+  k->n = unknowns;
+  klu_l_defaults(&k->common);
+  s->content = k;
+  return s;
+}
 
 SUNLinearSolver make_dense_lu_solver(long unknowns, SUNContext ctx) {
   SUNLinearSolver s = SUNLinSolNewEmpty(ctx);
@@ -190,9 +302,9 @@ SUNLinearSolver make_dense_lu_solver(long unknowns, SUNContext ctx) {
   return s;
 }
 
-SUNLinearSolver make_newton_solver(NewtonSolver kind, N_Vector y, SUNMatrix a, SUNContext ctx) {
+SUNLinearSolver make_newton_solver(NewtonSolver kind, SUNMatrix a, SUNContext ctx) {
   if (kind == NewtonSolver::kDense) return make_dense_lu_solver(SUNSparseMatrix_Rows(a), ctx);
-  return SUNLinSol_KLU(y, a, ctx);
+  return make_sparse_lu_solver(SUNSparseMatrix_Rows(a), ctx);
 }
 
 }  // namespace nvh::solve

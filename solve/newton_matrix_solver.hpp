@@ -7,9 +7,10 @@
 // m x m blocks of its mass and stiffness and couples them to every body its markers touch. On the 4-cylinder
 // engine (358 unknowns, 45 + 20 modes) 44 % of J is stored, and KLU (left-looking, column by column, no dense
 // kernels) refactorizes it in 4.1 ms and factorizes it in 7.7 ms, where LAPACK's dgetrf on the same matrix
-// takes 0.9 ms and its solves 0.02 ms instead of 0.05 (bench/README.md, "The Newton matrix"). SUNDIALS' own
-// KLU solver also refactorizes, estimates the condition number and then factorizes again whenever the
-// estimate exceeds 1/eps^(2/3) - which the index-2 DAE's scaling makes it do at almost every setup.
+// takes 0.9 ms and its solves 0.02 ms instead of 0.05 (bench/README.md, "The Newton matrix"). KLU is driven
+// by this file's own SUNDIALS linear solver (make_sparse_lu_solver): SUNDIALS' SUNLinSol_KLU analyzed the
+// pattern again at every IDAReInit (every contact event) and let a lightly damped mode grow from round-off on
+// the valvetrain bridge (newton_matrix_solver.cpp says how).
 //
 // `choose_newton_solver` decides from the sparsity pattern alone (deterministic: a scene always gets the same
 // arithmetic, and a restarted run the same solver as an uninterrupted one). KLU's symbolic analysis (AMD)
@@ -48,13 +49,18 @@ NewtonSolverChoice choose_newton_solver(const std::string& setting, int unknowns
 /// "klu" or "dense".
 const char* to_string(NewtonSolver kind);
 
-/// The SUNDIALS linear solver for IDA's sparse (CSC) Newton matrix A: SUNDIALS' KLU, or the dense LU below.
+/// The SUNDIALS linear solver for IDA's sparse (CSC) Newton matrix A: KLU or the dense LU, both below.
 /// The caller owns it (SUNLinSolFree).
-SUNLinearSolver make_newton_solver(NewtonSolver kind, N_Vector y, SUNMatrix a, SUNContext ctx);
+SUNLinearSolver make_newton_solver(NewtonSolver kind, SUNMatrix a, SUNContext ctx);
 
 /// A direct SUNDIALS linear solver that scatters the SUNSparseMatrix (CSC) it is given into a dense
 /// column-major array and factorizes it by LAPACK's dgetrf (partial pivoting); solves by dgetrs. A singular
 /// matrix is a recoverable setup failure (IDA then takes a shorter step), as with KLU.
 SUNLinearSolver make_dense_lu_solver(long unknowns, SUNContext ctx);
+
+/// KLU (sparse LU) as a SUNDIALS direct linear solver for the same CSC matrix: the symbolic analysis once, a
+/// refactorization per setup (a fresh factorization when its condition estimate collapses), one step of
+/// iterative refinement per solve (newton_matrix_solver.cpp).
+SUNLinearSolver make_sparse_lu_solver(long unknowns, SUNContext ctx);
 
 }  // namespace nvh::solve

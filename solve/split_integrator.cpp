@@ -468,7 +468,7 @@ class SplitIntegrator final : public Integrator {
     const std::vector<int> start(g.column_start.begin(), g.column_start.end()),
         rows(g.rows.begin(), g.rows.end());
     const NewtonSolver kind = choose_newton_solver(s_.linear_solver, g.m, start, rows).kind;
-    g.solver = make_newton_solver(kind, g.u, g.matrix, g.ctx);
+    g.solver = make_newton_solver(kind, g.matrix, g.ctx);
     linear_solvers_ += (linear_solvers_.empty() ? "" : "+") + std::string(to_string(kind));
     check(IDASetLinearSolver(g.mem, g.solver, g.matrix), "IDASetLinearSolver");
     check(IDASetJacFn(g.mem, &SplitIntegrator::jacobian), "IDASetJacFn");
