@@ -1151,6 +1151,44 @@ void Model::reaction(int ci, double t, const double* y, Vec3& force, Vec3& torqu
   torque = ft.tail<3>();
 }
 
+void Model::applied_wrench(int b, double t, const double* y, const double* yp, const Vec3& point, Vec3& force,
+                           Vec3& torque) const {
+  force.setZero(), torque.setZero();
+  auto add = [&](const Vec3& at, const Vec3& f, const Vec3& tq) {
+    force += f;
+    torque += tq + (at - point).cross(f);
+  };
+  std::vector<double> rows;
+  for (std::size_t fi = 0; fi < forces.size(); ++fi) {
+    const ForceEntry& fe = forces[fi];
+    if (std::none_of(fe.markers.begin(), fe.markers.end(), [&](const MarkerRef& m) { return m.body == b; }))
+      continue;
+    rows.assign(static_cast<std::size_t>(fe.state_count), 0.0);
+    evaluate_element(fi, t, y, yp, rows.data());
+    for (std::size_t k = 0; k < fe.markers.size(); ++k)
+      if (fe.markers[k].body == b)
+        add(ws_->motions[fi][k].position, ws_->wrenches[fi][k].force, ws_->wrenches[fi][k].torque);
+  }
+  // A constraint acts on body i by the wrench -D_i^T lambda at marker i, on body j by -D_j^T lambda at marker j.
+  for (const auto& c : constraints) {
+    if (c.i.body != b && c.j.body != b) continue;
+    const MarkerMotion mi = marker_motion(c.i, y), mj = marker_motion(c.j, y);
+    ConstraintEquations eq(c.constraint->size());
+    c.constraint->evaluate(t, mi, mj, eq);
+    Eigen::VectorXd lambda(c.constraint->size());
+    for (int e = 0; e < c.constraint->size(); ++e)
+      lambda[e] = c.active[e] ? y[lambda_offset_ + c.first_row + e] : 0.0;
+    if (c.i.body == b) {
+      const Eigen::Matrix<double, 6, 1> wi = -eq.di.transpose() * lambda;
+      add(mi.position, wi.head<3>(), wi.tail<3>());
+    }
+    if (c.j.body == b) {
+      const Eigen::Matrix<double, 6, 1> wj = -eq.dj.transpose() * lambda;
+      add(mj.position, wj.head<3>(), wj.tail<3>());
+    }
+  }
+}
+
 std::pair<double, double> Model::constraint_violation(double t, const double* y) const {
   if (n_eq_ == 0) return {0.0, 0.0};
   Eigen::MatrixXd cm;

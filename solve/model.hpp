@@ -153,6 +153,11 @@ class Model {
   double clock_angle(const double* y) const;
   double total_kinetic_energy(const double* y) const;
   EnergyBalance energy(double t, const double* y, const double* yp) const;
+  /// The resultant of every force element's and constraint's wrench on body b at (t, y, y'): a force and its
+  /// torque about `point` (global axes, N and N m). Gravity is not included. Output only (it evaluates the
+  /// elements acting on b again): the support reaction of a slider or rotor (fixed_axis_body.hpp).
+  void applied_wrench(int b, double t, const double* y, const double* yp, const Vec3& point, Vec3& force,
+                      Vec3& torque) const;
   /// Largest violation of the active position equations |Phi| (m or rad) and of the velocity equations
   /// |C w + Phi_t| (m/s or rad/s): the constraint drift.
   std::pair<double, double> constraint_violation(double t, const double* y) const;

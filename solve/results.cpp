@@ -6,6 +6,7 @@
 #include <hdf5.h>
 
 #include "common/error.hpp"
+#include "solve/fixed_axis_body.hpp"
 
 namespace nvh::solve {
 namespace {
@@ -38,6 +39,14 @@ std::vector<Signal> signals_of(const Scene& s) {
       if (b->kind() == "flexible") {  // the elastic coordinates and their rates (units of the superelement)
         out.push_back({"bodies/" + b->name() + "/modal_coordinates", b->position_count() - 7, "superelement coordinates"});
         out.push_back({"bodies/" + b->name() + "/modal_velocities", b->position_count() - 7, "superelement coordinates / s"});
+      }
+      if (dynamic_cast<const FixedAxisBody*>(b.get()) != nullptr) {  // its coordinate and the support
+        const bool rotor = b->kind() == "rotor";
+        if (rotor) out.push_back({"bodies/" + b->name() + "/angular_velocity", 3, "rad/s"});
+        out.push_back({"bodies/" + b->name() + "/coordinate", 0, rotor ? "rad" : "m"});
+        out.push_back({"bodies/" + b->name() + "/coordinate_rate", 0, rotor ? "rad/s" : "m/s"});
+        out.push_back({"bodies/" + b->name() + "/support_force", 3, "N"});
+        out.push_back({"bodies/" + b->name() + "/support_torque", 3, "N m"});
       }
     }
   if (s.output.forces)
@@ -185,7 +194,23 @@ void ResultsWriter::add_sample(double t, const Scene& scene, const Eigen::Vector
       if (body.velocity_count() == 0) continue;
       const auto q = m.positions(static_cast<int>(b), y.data());
       const auto w = m.velocities(static_cast<int>(b), y.data());
+      const auto* fixed = dynamic_cast<const FixedAxisBody*>(&body);
       put(body.reference_position(q));
+      if (fixed) {
+        put(fixed->reference_velocity(q, w));
+        if (body.kind() == "rotor") put(Vec3(w[0] * fixed->axis()));
+        put1(q[0]);
+        put1(w[0]);
+        const int bi = static_cast<int>(b);
+        const Vec3 cm = body.reference_position(q);
+        Vec3 force, torque;
+        m.applied_wrench(bi, t, y.data(), yp.data(), cm, force, torque);
+        const std::span<const double> wdot(yp.data() + m.body_offset(bi) + body.position_count(), 1);
+        const SupportWrench s = fixed->support_wrench(q, w, wdot, m.gravity, force, torque);
+        put(s.force);
+        put(s.torque);
+        continue;
+      }
       put(Eigen::Map<const Vec3>(w.data()));
       if (body.kind() == "rigid" || body.kind() == "flexible") {
         put(Eigen::Map<const Vec4>(q.data() + 3));

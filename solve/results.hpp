@@ -17,7 +17,7 @@
 namespace nvh::solve {
 
 inline constexpr const char* kResultsFormat = "nvh-results";
-inline constexpr const char* kResultsFormatVersion = "1.0";
+inline constexpr const char* kResultsFormatVersion = "1.1";  // 1.1: sliders and rotors (results-format.md)
 
 /// The signal datasets the scene writes, in file order: their paths (no leading '/') and columns (0: a
 /// vector).

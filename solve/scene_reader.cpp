@@ -11,6 +11,7 @@
 #include "solve/cam/cam_joint.hpp"
 #include "solve/cam/cam_profile.hpp"
 #include "solve/element_registry.hpp"
+#include "solve/fixed_axis_body.hpp"
 #include "solve/flexible_body.hpp"
 #include "solve/results.hpp"
 #include "solve/scene.hpp"
@@ -79,12 +80,76 @@ class SceneReader {
 
  private:
   // ------------------------------------------------------------------ bodies and markers
+  /// `inertia`: about the centre of mass in body axes, 3 or 6 tensor components; positive definite, and the
+  /// principal moments satisfy the triangle inequality.
+  static Mat3 read_inertia(const Table& t) {
+    const auto in = t.numbers("inertia", Range::magnitude(bounds::kInertia));
+    Mat3 j = Mat3::Zero();
+    if (in.size() == 3) {
+      j.diagonal() << in[0], in[1], in[2];
+    } else if (in.size() == 6) {  // Ixx Iyy Izz Ixy Ixz Iyz (tensor components, not products of inertia)
+      j << in[0], in[3], in[4], in[3], in[1], in[5], in[4], in[5], in[2];
+    } else {
+      t.fail("inertia",
+             "expected 3 numbers [Ixx, Iyy, Izz] or 6 [Ixx, Iyy, Izz, Ixy, Ixz, Iyz] in kg m^2, got " +
+                 std::to_string(in.size()));
+    }
+    Eigen::SelfAdjointEigenSolver<Mat3> eig(j);
+    const Vec3 ev = eig.eigenvalues();
+    if (ev.minCoeff() <= 0)
+      t.fail("inertia", "the inertia tensor must be positive definite; its principal moments are " +
+                            std::to_string(ev[0]) + ", " + std::to_string(ev[1]) + ", " + std::to_string(ev[2]));
+    if (ev[0] + ev[1] < ev[2] * (1 - 1e-9))
+      t.fail("inertia",
+             "the principal moments violate the triangle inequality (I1 + I2 >= I3): no real body has them");
+    return j;
+  }
+
+  /// `orientation`: Euler parameters of body -> global, normalized.
+  static Mat3 read_orientation(const Table& t) {
+    const auto p = t.numbers("orientation", kDirection);
+    if (p.size() != 4) t.fail("orientation", "expected 4 Euler parameters [e0, e1, e2, e3]");
+    const Vec4 pv(p[0], p[1], p[2], p[3]);
+    if (pv.norm() < 1e-12) t.fail("orientation", "the Euler parameters must not all be zero");
+    return rotation_matrix(pv.normalized());
+  }
+
+  /// type = "slider" or "rotor": a rigid body of one coordinate on a fixed axis of the ground
+  /// (fixed_axis_body.hpp). `position` is its centre of mass at coordinate 0.
+  static std::unique_ptr<Body> read_fixed_axis_body(const Table& t, const std::string& name, const std::string& type,
+                                                    InitialState init) {
+    const bool slider = type == "slider";
+    const char* rate_unit = slider ? "m/s" : "rad/s";
+    for (const char* key : {"velocity", "angular_velocity"})
+      if (t.has(key))
+        t.fail(key, std::string(slider ? "a slider moves along" : "a rotor turns about") +
+                        " its axis only: give its initial rate as `speed` (" + rate_unit +
+                        (slider ? " along the axis)" : " about the axis, right-handed)"));
+    const double mass = t.number("mass", kMass);
+    const Vec3 axis = to_vec(t.vec3("axis", kDirection));
+    if (axis.norm() < 1e-12) t.fail("axis", "the axis must not be zero");
+    if (t.has("orientation")) init.orientation = read_orientation(t);
+    const double speed = t.number_or("speed", 0.0, slider ? kVelocity : kAngularVelocity);
+    if (slider) {
+      for (const char* key : {"inertia", "pivot"})
+        if (t.has(key))
+          t.fail(key, std::string("a slider translates and does not turn: it takes no `") + key +
+                          "` (a body that also turns is a rotor, or a rigid body with joints)");
+      init.velocity = speed * axis.normalized();
+      return std::make_unique<SliderBody>(name, mass, axis, init);
+    }
+    const Mat3 j = read_inertia(t);
+    const Vec3 pivot = t.has("pivot") ? to_vec(t.vec3("pivot", kPosition)) : init.position;
+    init.angular_velocity = speed * axis.normalized();
+    return std::make_unique<RotorBody>(name, mass, j, axis, pivot, init);
+  }
+
   void read_body(const Table& t) {
     const std::string name = t.name("name");
     if (name.empty() || name.find('.') != std::string::npos)
       t.fail("name", "a body name must be non-empty and contain no '.' (markers are named body.marker)");
     if (body_index_.count(name)) t.fail("name", "a body named '" + name + "' is defined twice");
-    const std::string type = t.choice("type", {"ground", "rigid", "point-mass", "flexible"});
+    const std::string type = t.choice("type", {"ground", "rigid", "point-mass", "flexible", "slider", "rotor"});
     InitialState init;
     if (type != "ground") {
       init.position = to_vec(t.optional_vec3("position", kPosition).value_or(std::array<double, 3>{0, 0, 0}));
@@ -93,36 +158,12 @@ class SceneReader {
     std::unique_ptr<Body> body;
     if (type == "ground") {
       body = std::make_unique<Ground>(name);
+    } else if (type == "slider" || type == "rotor") {
+      body = read_fixed_axis_body(t, name, type, init);
     } else if (type == "rigid") {
       const double mass = t.number("mass", kMass);
-      const auto in = t.numbers("inertia", Range::magnitude(bounds::kInertia));
-      Mat3 j = Mat3::Zero();
-      if (in.size() == 3) {
-        j.diagonal() << in[0], in[1], in[2];
-      } else if (in.size() == 6) {  // Ixx Iyy Izz Ixy Ixz Iyz (tensor components, not products of inertia)
-        j << in[0], in[3], in[4], in[3], in[1], in[5], in[4], in[5], in[2];
-      } else {
-        t.fail("inertia",
-               "expected 3 numbers [Ixx, Iyy, Izz] or 6 [Ixx, Iyy, Izz, Ixy, Ixz, Iyz] in kg m^2, got " +
-                   std::to_string(in.size()));
-      }
-      Eigen::SelfAdjointEigenSolver<Mat3> eig(j);
-      const Vec3 ev = eig.eigenvalues();
-      if (ev.minCoeff() <= 0)
-        t.fail("inertia", "the inertia tensor must be positive definite; its principal moments are " +
-                              std::to_string(ev[0]) + ", " + std::to_string(ev[1]) + ", " +
-                              std::to_string(ev[2]));
-      if (ev[0] + ev[1] < ev[2] * (1 - 1e-9))
-        t.fail("inertia",
-               "the principal moments violate the triangle inequality (I1 + I2 >= I3): no real body "
-               "has them");
-      if (t.has("orientation")) {
-        const auto p = t.numbers("orientation", kDirection);
-        if (p.size() != 4) t.fail("orientation", "expected 4 Euler parameters [e0, e1, e2, e3]");
-        Vec4 pv(p[0], p[1], p[2], p[3]);
-        if (pv.norm() < 1e-12) t.fail("orientation", "the Euler parameters must not all be zero");
-        init.orientation = rotation_matrix(pv.normalized());
-      }
+      const Mat3 j = read_inertia(t);
+      if (t.has("orientation")) init.orientation = read_orientation(t);
       init.angular_velocity = to_vec(
           t.optional_vec3("angular_velocity", kAngularVelocity).value_or(std::array<double, 3>{0, 0, 0}));
       body = std::make_unique<RigidBody>(name, mass, j, init);
@@ -131,14 +172,9 @@ class SceneReader {
     } else {
       init.angular_velocity = to_vec(
           t.optional_vec3("angular_velocity", kAngularVelocity).value_or(std::array<double, 3>{0, 0, 0}));
-      if (t.has("orientation")) {
-        const auto p = t.numbers("orientation", kDirection);
-        if (p.size() != 4) t.fail("orientation", "expected 4 Euler parameters [e0, e1, e2, e3]");
-        const Vec4 pv(p[0], p[1], p[2], p[3]);
-        if (pv.norm() < 1e-12) t.fail("orientation", "the Euler parameters must not all be zero");
-        init.orientation = rotation_matrix(pv.normalized());
-      }
+      if (t.has("orientation")) init.orientation = read_orientation(t);
       body = make_flexible_body(t, name, init, base_, s_.input_files);
+
       // Fewer coordinates than a file with static correction holds drop that correction (its vectors lie
       // above the band, or are mixed into the orthonormalized modes): allowed, but say so.
       const FlexibleData& d = static_cast<const FlexibleBody&>(*body).data();
