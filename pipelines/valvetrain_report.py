@@ -17,10 +17,12 @@ The KPIs, from the channels of the scene's elements (names as in testdata/valvet
   bounce              after that landing: the largest lift until the next opening (mm) and how long the valve
                       is off its seat again (cam deg)
   pushrod, pivot      largest pushrod force (/forces/pushrod/force_i) and rocker pivot reaction
-                      (|/joints/rocker_shaft/reaction_force|), N
+                      (|/bodies/rocker/support_force| of the rotor, or |/joints/rocker_shaft/reaction_force|
+                      where a revolute joint holds it: the flexible rocker), N
   follower bearing    the largest reaction of the follower's bearing, N: the lever's pivot
-                      (|/joints/follower_pivot/reaction_force|, valvetrain_lever.toml) or the tappet's bore
-                      (|/joints/tappet_bore/reaction_force|: the side force the cam's pressure angle puts on it)
+                      (|/bodies/follower/support_force|, valvetrain_lever.toml; or its joint follower_pivot) or
+                      the tappet's bore (|/bodies/tappet/support_force|, or the joint tappet_bore: the side force
+                      the cam's pressure angle puts on it)
   drive torque        /forces/cam/cam_torque: largest and mean (N m; the mean is the friction-free work)
   spring              largest force (/forces/valve_spring/force_i) and the middle coil's surge: the largest
                       |x_3| (displacement of mass 3 from its quasi-static place, mm; of a chain of N masses,
@@ -155,10 +157,14 @@ def kpis(results: Path, valve: str = "valve", seat: str = "seat", spring: str = 
             k["pushrod_max"] = g("forces/pushrod/force_i").max()
         else:
             k["pushrod_max"] = np.linalg.norm(r["joints/pushrod/reaction_force"][:][last], axis=1).max()
-        k["pivot_max"] = np.linalg.norm(r["joints/rocker_shaft/reaction_force"][:][last], axis=1).max()
-        bearing = next((f"joints/{j}/reaction_force" for j in ("follower_pivot", "tappet_bore")
-                        if f"joints/{j}/reaction_force" in r), None)
-        k["follower_max"] = (np.linalg.norm(r[bearing][:][last], axis=1).max() if bearing else math.nan)
+        # A bearing's reaction: its joint's, or the support of a rotor or slider (a body on its fixed axis).
+        def bearing(joint, body):
+            path = next((p for p in (f"joints/{joint}/reaction_force", f"bodies/{body}/support_force") if p in r),
+                        None)
+            return np.linalg.norm(r[path][:][last], axis=1).max() if path else math.nan
+        k["pivot_max"] = bearing("rocker_shaft", "rocker")
+        k["follower_max"] = next((v for v in (bearing("follower_pivot", "follower"), bearing("tappet_bore", "tappet"))
+                                  if not math.isnan(v)), math.nan)
         torque = g("forces/cam/cam_torque")
         k["torque_max"], k["torque_mean"] = np.abs(torque).max(), torque.mean()
         # The spring as a chain of N masses (its force at the retainer; surge: the middle mass, x_3 of 5) or

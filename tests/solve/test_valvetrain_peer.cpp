@@ -91,12 +91,9 @@ Comparison compare(double rpm, const std::string& csv, double from_deg, double t
   auto p = peer(csv);
   const auto angle = signal(file, "crank_angle_deg");
   const auto y = signal(file, "bodies/valve/position", 1), v = signal(file, "bodies/valve/velocity", 1);
-  auto angle_about_z = [&](const std::string& body,
-                           Eigen::Index n) {  // 2 atan2(e3, e0) of its Euler parameters
-    const auto e0 = signal(file, "bodies/" + body + "/euler_parameters", 0),
-               e3 = signal(file, "bodies/" + body + "/euler_parameters", 3);
-    return Eigen::VectorXd(
-        2 * e3.head(n).binaryExpr(e0.head(n), [](double a, double b) { return std::atan2(a, b); }));
+  // The rocker and the lever are rotors about z (from their drawn pose): their coordinate is the angle.
+  auto angle_about_z = [&](const std::string& body, Eigen::Index n) {
+    return Eigen::VectorXd(signal(file, "bodies/" + body + "/coordinate").head(n));
   };
   std::map<std::string, Eigen::VectorXd> s;
   const Eigen::Index n = static_cast<Eigen::Index>(p["cam_deg"].size());
