@@ -30,9 +30,10 @@ Reads a scene file (TOML, docs/scene-format.md): bodies (ground, rigid, point ma
 sliders and rotors: rigid bodies of one coordinate on a fixed axis, their guide's or bearing's
 reaction written as the body's support_force) with markers, ideal joints (fixed, revolute,
 spherical, prismatic, cylindrical, in-line, distance, in-plane, and cam: a roller held on a cam's
-pitch curve; redundant equations of closed planar loops are found and removed), force elements (listed below: spring-dampers, Maxwell mounts, bushings, torsional
-couplings, contacts with clearance and friction, tables, motor curves, hydrodynamic journal
-bearings, roller followers on cams), speed drivers, lift drivers (a kinematic cam on a slider:
+pitch curve; redundant equations of closed planar loops are found and removed), force elements
+(listed below: spring-dampers, Maxwell mounts, bushings, torsional couplings, contacts with
+clearance and friction, tables, motor curves, hydrodynamic journal bearings, roller followers on
+cams), speed drivers, lift drivers (a kinematic cam on a slider:
 docs/valvetrain.md), loads against time or crank angle (cylinder
 pressure x piston area, periodic over 720 deg), a clock (crank angle; end by time, angle or cycles).
 It integrates the differential-algebraic equations with SUNDIALS IDA (variable-order BDF, KLU sparse
