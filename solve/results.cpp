@@ -195,16 +195,16 @@ void ResultsWriter::add_sample(double t, const Scene& scene, const Eigen::Vector
       const auto q = m.positions(static_cast<int>(b), y.data());
       const auto w = m.velocities(static_cast<int>(b), y.data());
       const auto* fixed = dynamic_cast<const FixedAxisBody*>(&body);
-      put(body.reference_position(q));
+      const Vec3 reference = body.reference_position(q);
+      put(reference);
       if (fixed) {
         put(fixed->reference_velocity(q, w));
         if (body.kind() == "rotor") put(Vec3(w[0] * fixed->axis()));
         put1(q[0]);
         put1(w[0]);
         const int bi = static_cast<int>(b);
-        const Vec3 cm = body.reference_position(q);
-        Vec3 force, torque;
-        m.applied_wrench(bi, t, y.data(), yp.data(), cm, force, torque);
+        Vec3 force, torque;  // about the centre of mass, the reference point of sliders and rotors
+        m.applied_wrench(bi, t, y.data(), yp.data(), reference, force, torque);
         const std::span<const double> wdot(yp.data() + m.body_offset(bi) + body.position_count(), 1);
         const SupportWrench s = fixed->support_wrench(q, w, wdot, m.gravity, force, torque);
         put(s.force);
