@@ -7,7 +7,8 @@
 // (rho_inf = 1: no numerical damping; 0: asymptotic annihilation). On the first-order form of the
 // equations of motion this is the Chung-Hulbert family (Chung and Hulbert, J. Appl. Mech. 60, 1993); it works
 // on the index-2 stabilized constraints of model.hpp like IDA, so both integrators solve the same model.
-// Newton on y'_{n+1} uses the same colored Jacobian with cj = alpha_m / (alpha_f gamma h) and a sparse LU.
+// Newton on y'_{n+1} uses the same Jacobian with cj = alpha_m / (alpha_f gamma h) and a sparse LU, kept while cj
+// stays within jacobian_cj_change of the factorized one's, and IDA's convergence test (newton_tolerance).
 // Contact events: after each converged step the gaps of the contact elements (Model::gaps) are evaluated; if
 // one changed sign, its crossing is located on the step's Hermite interpolant and the step is redone from its
 // start to end there, so that an onset or release is a step boundary (no step straddles the kink of a contact
@@ -193,7 +194,7 @@ class GeneralizedAlpha final : public Integrator {
     const int n = model_.size();
     const double cj = alpha_m_ / (alpha_f_ * gamma_ * h);
     const double ta = t_ + alpha_f_ * h;
-    Eigen::VectorXd a = yp_;  // predictor: constant y'
+    Eigen::VectorXd a(n);
     Eigen::VectorXd y1(n), ya(n), ypa(n), f(n), weights(n);
     for (int k = 0; k < n; ++k) weights[k] = 1.0 / (s_.rtol * std::abs(y_[k]) + s_.atol);
     auto stage = [&] {
@@ -207,32 +208,50 @@ class GeneralizedAlpha final : public Integrator {
     };
     for (int attempt = 0; attempt < 2; ++attempt) {
       jacobian_fresh_now_ = false;
-      a = yp_;
+      predict(h, a);
       stage();
-      if ((!jacobian_fresh_ || std::abs(cj - cj_) > 1e-12 * cj) && !factor(ta, ya, ypa, f, cj, h, weights)) {
+      // A new iteration matrix when the last one is stale (a failure) or its cj is more than
+      // jacobian_cj_change away (as IDA, IDASetDeltaCjLSetup); in between the correction is scaled by
+      // 2 / (1 + cj / cj_), IDA's compensation of the dominant cj dF/dy' part.
+      if ((!jacobian_fresh_ || std::abs(cj / cj_ - 1) > s_.jacobian_cj_change) &&
+          !factor(ta, ya, ypa, f, cj, h, weights)) {
         ++stats_.nonlinear_failures;  // a non-finite Jacobian: a shorter step, as for a non-finite residual
         return false;
       }
+      const double scale = 2 / (1 + cj / cj_);
       bool converged = false;
-      double previous = 0;
-      for (int it = 0; it < 8; ++it) {
+      double first = 0;
+      for (int it = 0; it < kMaxIterations; ++it) {
         if (!f.allFinite()) {  // kept for the message if the step cannot be shortened enough (fail())
           note_non_finite(ta, ya, ypa);
           break;
         }
-        const Eigen::VectorXd dy = lu_.solve(-f);  // correction of y_alpha
+        dy_ = lu_.solve(-f);  // correction of y_alpha
+        if (scale != 1) dy_ *= scale;
         ++stats_.linear_solves;
         ++stats_.newton_iterations;
-        a += dy / (alpha_f_ * gamma_ * h);
+        a += dy_ / (alpha_f_ * gamma_ * h);
         stage();
-        const double norm = (dy.cwiseProduct(weights).cwiseProduct(mask_)).norm() / std::sqrt(double(n));
-        if (norm < 1e-3 || (it > 0 && norm < 1e-2 && norm < 0.2 * previous)) {
+        // Convergence (Hairer & Wanner, Solving ODEs II, 2nd ed., sec. IV.8, eq. 8.10-8.11; IDA's test): the
+        // error left after iteration m is estimated as rate / (1 - rate) |dy_m| from the contraction rate
+        // (|dy_m| / |dy_0|)^(1/m); before this step has a rate, the last one's (rate_ratio_) is used.
+        const double norm = (dy_.cwiseProduct(weights).cwiseProduct(mask_)).norm() / std::sqrt(double(n));
+        if (it == 0) {
+          first = norm;
+        } else {
+          const double rate = std::pow(norm / first, 1.0 / it);
+          if (rate > 0.9) break;  // not contracting
+          rate_ratio_ = rate / (1 - rate);
+        }
+        // Without an error test behind it (IDA has one), a rate carried from another step is trusted no lower
+        // than kCarriedRateRatio: a fresh matrix's quadratic convergence (rates of 1e-6) would otherwise accept
+        // a stale matrix's first correction of any size.
+        const double ratio = it == 0 ? std::max(rate_ratio_, kCarriedRateRatio) : rate_ratio_;
+        if (ratio * norm <= s_.newton_tolerance) {
           converged = f.allFinite();
           if (!converged) note_non_finite(ta, ya, ypa);
           break;
         }
-        if (it > 1 && norm > 0.9 * previous) break;  // not contracting
-        previous = norm;
       }
       if (converged) {
         non_finite_.clear();
@@ -249,6 +268,17 @@ class GeneralizedAlpha final : public Integrator {
       jacobian_fresh_ = false;  // retry once with a fresh Jacobian
     }
     return false;
+  }
+
+  /// The predictor of y'_{n+1}: linear extrapolation through the last two steps' y' (constant y' at the
+  /// start). Measured on the valvetrain with the flexible rocker (20 us): 10 % fewer Newton iterations than
+  /// constant y'.
+  void predict(double h, Eigen::VectorXd& a) const {
+    const double hp = t_ - t_prev_;
+    if (hp > 0)
+      a = yp_ + (h / hp) * (yp_ - yp_prev_);
+    else
+      a = yp_;
   }
 
   /// False (and the cause noted for fail()) if the Jacobian is not finite.
@@ -272,6 +302,7 @@ class GeneralizedAlpha final : public Integrator {
     if (lu_.info() != Eigen::Success)
       throw Error("generalized-alpha: the iteration matrix is singular at t = " + std::to_string(t_) + " s");
     cj_ = cj;
+    rate_ratio_ = 20;  // no rate known for the new matrix (IDA's start value)
     jacobian_fresh_ = true;
     jacobian_fresh_now_ = true;
     return true;
@@ -301,8 +332,15 @@ class GeneralizedAlpha final : public Integrator {
   Eigen::VectorXd y_, yp_, y_prev_, yp_prev_;
   double t_prev_;
   double h_;
+  // Newton's norm: the error test's unknowns (1). The multipliers stay out (IDA's Newton test has them, at
+  // multiplier_atol): tried, a flexible valvetrain then failed to converge at contact events, where the
+  // shortened steps leave the index-2 multipliers known to round-off / h^2 only.
   Eigen::VectorXd mask_;
   double alpha_m_ = 0, alpha_f_ = 0, gamma_ = 0, cj_ = 0;
+  static constexpr int kMaxIterations = 8;
+  static constexpr double kCarriedRateRatio = 1.0;  // the least rate / (1 - rate) trusted from another step
+  double rate_ratio_ = 20;  // rate / (1 - rate) of Newton's last contraction (the convergence test)
+  Eigen::VectorXd dy_;      // Newton's correction
   Eigen::SparseMatrix<double> matrix_;
   Eigen::SparseLU<Eigen::SparseMatrix<double>> lu_;
   std::vector<double> values_;

@@ -11,6 +11,8 @@
 namespace nvh::solve {
 namespace {
 
+constexpr hsize_t kChunkValues = 131072;  // the largest chunk of a time history (1 MiB, HDF5's chunk cache)
+
 // Every signal dataset of a scene: its path, its columns (0 = a 1-D vector) and its unit.
 struct Signal {
   std::string path;
@@ -99,8 +101,16 @@ ResultsWriter ResultsWriter::create(const std::filesystem::path& path, const Sce
     root.set_attribute("integrator", scene.integrator.method);
     root.set_attribute("layout", layout_signature(scene));
     write_provenance(root, provenance);
-    const h5::Chunking chunking{{}, scene.output.compression};  // gzip level ([output] compression)
     for (const auto& sig : signals_of(scene)) {
+      // A chunk holds one flush of samples (chunk_samples rows; halved while over 128 Ki values), so each
+      // chunk is compressed once or twice (a flush that ends a step a few samples past a chunk's end
+      // touches the next one). HDF5's automatic 16 Ki-row chunks were compressed again, whole, at every
+      // flush that added to them: 2.2 x the deflate work on the valvetrain at 20 kHz (docs/results-format.md).
+      const hsize_t columns = std::max(1, sig.columns);
+      hsize_t rows = static_cast<hsize_t>(scene.output.chunk_samples);
+      while (rows * columns > kChunkValues && rows % 2 == 0) rows /= 2;
+      const h5::Chunking chunking{sig.columns == 0 ? std::vector<hsize_t>{rows} : std::vector<hsize_t>{rows, columns},
+                                  scene.output.compression};  // gzip level ([output] compression)
       auto ds = sig.columns == 0 ? root.create_appendable_vector(sig.path, chunking)
                                  : root.create_appendable(sig.path, sig.columns, chunking);
       root.set_attribute("unit", sig.unit, sig.path);

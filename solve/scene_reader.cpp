@@ -489,6 +489,7 @@ void SceneReader::read_integrator(const Table& root) {
   s.max_order = static_cast<int>(t->optional_integer("max_order", Range::closed(1, 5)).value_or(s.max_order));
   s.jacobian_cj_change = t->number_or("jacobian_cj_change", s.jacobian_cj_change, Range::open(0.0, 1.0));
   s.rho_inf = t->number_or("rho_inf", s.rho_inf, Range::closed(0.0, 1.0));
+  s.newton_tolerance = t->number_or("newton_tolerance", s.newton_tolerance, Range{0.0, 1.0, true, false});
   s.step = t->number_or("step", s.step, Range{0.0, bounds::kTime, true, false});
   // A fixed step so small that the run never ends (or that t + step == t): refuse it where the end is a time.
   const double span = s_.end_time - s_.start_time;

@@ -5,7 +5,10 @@
 
 #include <hdf5.h>
 
+#include <algorithm>
 #include <filesystem>
+#include <string>
+#include <vector>
 
 #include "common/error.hpp"
 #include "solve_fixture.hpp"
@@ -48,6 +51,35 @@ TEST(OutputCompression, LevelZeroStoresRawAndEveryLevelTheSameNumbers) {
     EXPECT_EQ((a - c).cwiseAbs().maxCoeff(), 0.0) << path;
   }
   EXPECT_GT(std::filesystem::file_size(raw), std::filesystem::file_size(packed));
+}
+
+/// The chunk dims of a dataset.
+std::vector<hsize_t> chunk_of(const std::filesystem::path& file, const char* dataset) {
+  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  const hid_t d = H5Dopen2(f, dataset, H5P_DEFAULT);
+  const hid_t p = H5Dget_create_plist(d);
+  std::vector<hsize_t> dims(2, 0);
+  dims.resize(std::max(0, H5Pget_chunk(p, 2, dims.data())));
+  H5Pclose(p), H5Dclose(d), H5Fclose(f);
+  return dims;
+}
+
+// A time history's chunk is one flush of samples (chunk_samples rows, halved while it would hold more than
+// 128 Ki values), so that deflate passes over each sample once or twice, not at every flush that adds to a
+// larger chunk (docs/results-format.md, Storage). Exact: the chunk dims as stored.
+TEST(OutputCompression, AChunkHoldsOneFlushOfSamples) {
+  auto run_with = [](int chunk_samples) {
+    return testing::run_text(
+        testing::shipped_scene("scenes/slider_crank.toml",
+                               {{"sample_rate_hz = 10000", "sample_rate_hz = 10000\nchunk_samples = " +
+                                                               std::to_string(chunk_samples)}}),
+        "chunks_" + std::to_string(chunk_samples));
+  };
+  const auto small = run_with(512), large = run_with(65536);
+  EXPECT_EQ(chunk_of(small, "/time"), (std::vector<hsize_t>{512}));
+  EXPECT_EQ(chunk_of(small, "/bodies/crank/position"), (std::vector<hsize_t>{512, 3}));
+  EXPECT_EQ(chunk_of(large, "/time"), (std::vector<hsize_t>{65536}));
+  EXPECT_EQ(chunk_of(large, "/bodies/crank/position"), (std::vector<hsize_t>{32768, 3}));  // 98,304 values
 }
 
 TEST(OutputCompression, ALevelOutsideZeroToNineIsRefusedNamingTheKey) {
