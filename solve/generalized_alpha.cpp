@@ -42,6 +42,8 @@ class GeneralizedAlpha final : public Integrator {
     alpha_m_ = (3 - rho) / (2 * (1 + rho));
     alpha_f_ = 1 / (1 + rho);
     gamma_ = 0.5 + alpha_m_ - alpha_f_;
+    for (Eigen::VectorXd* v : {&work_.a, &work_.y1, &work_.ya, &work_.ypa, &work_.f, &work_.weights, &dy_})
+      v->resize(model.size());
     const auto& p = jacobian_.pattern();
     std::vector<Eigen::Triplet<double>> trip;
     for (int c = 0; c < p.n; ++c)
@@ -194,8 +196,9 @@ class GeneralizedAlpha final : public Integrator {
     const int n = model_.size();
     const double cj = alpha_m_ / (alpha_f_ * gamma_ * h);
     const double ta = t_ + alpha_f_ * h;
-    Eigen::VectorXd a(n);
-    Eigen::VectorXd y1(n), ya(n), ypa(n), f(n), weights(n);
+    // The step's vectors live in the integrator (sized once), named here as in the equations at the top.
+    Eigen::VectorXd &a = work_.a, &y1 = work_.y1, &ya = work_.ya, &ypa = work_.ypa, &f = work_.f,
+                    &weights = work_.weights;
     for (int k = 0; k < n; ++k) weights[k] = 1.0 / (s_.rtol * std::abs(y_[k]) + s_.atol);
     auto stage = [&] {
       y1 = y_ + h * yp_ + h * gamma_ * (a - yp_);
@@ -341,6 +344,9 @@ class GeneralizedAlpha final : public Integrator {
   static constexpr double kCarriedRateRatio = 1.0;  // the least rate / (1 - rate) trusted from another step
   double rate_ratio_ = 20;  // rate / (1 - rate) of Newton's last contraction (the convergence test)
   Eigen::VectorXd dy_;      // Newton's correction
+  struct StepVectors {      // try_step's: y'_{n+1} (a), y_{n+1}, the stage's y and y', F, the error weights
+    Eigen::VectorXd a, y1, ya, ypa, f, weights;
+  } work_;
   Eigen::SparseMatrix<double> matrix_;
   Eigen::SparseLU<Eigen::SparseMatrix<double>> lu_;
   std::vector<double> values_;

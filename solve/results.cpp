@@ -105,7 +105,7 @@ ResultsWriter ResultsWriter::create(const std::filesystem::path& path, const Sce
       // A chunk holds one flush of samples (chunk_samples rows; halved while over 128 Ki values), so each
       // chunk is compressed once or twice (a flush that ends a step a few samples past a chunk's end
       // touches the next one). HDF5's automatic 16 Ki-row chunks were compressed again, whole, at every
-      // flush that added to them: 2.2 x the deflate work on the valvetrain at 20 kHz (docs/results-format.md).
+      // flush that added to them: 2.6 x the deflate work on the valvetrain at 20 kHz (docs/results-format.md).
       const hsize_t columns = std::max(1, sig.columns);
       hsize_t rows = static_cast<hsize_t>(scene.output.chunk_samples);
       while (rows * columns > kChunkValues && rows % 2 == 0) rows /= 2;
