@@ -5,6 +5,7 @@
 
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
@@ -148,8 +149,10 @@ Mesh round_trip(const Mesh& mesh) {
 class TempDir {
  public:
   TempDir() {
-    path_ = fs::temp_directory_path() / ("nvh_abaqus_" + std::to_string(::getpid()) + "_" +
-                                         ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    // A parameterized test's name holds a '/' ("Name/0"): one folder level, not two.
+    std::string name = ::testing::UnitTest::GetInstance()->current_test_info()->name();
+    std::replace(name.begin(), name.end(), '/', '_');
+    path_ = fs::temp_directory_path() / ("nvh_abaqus_" + std::to_string(::getpid()) + "_" + name);
     fs::remove_all(path_);
     fs::create_directories(path_);
   }

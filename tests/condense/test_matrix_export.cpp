@@ -222,8 +222,7 @@ Exported condense_and_export(const Component& c, const std::string& tag,
     write_nastran_dmig(out, e.se, options);
   }
   e.deck = parse_deck(pch);
-  fs::remove(h5);
-  fs::remove(pch);
+  fs::remove_all(dir);
   return e;
 }
 

@@ -12,6 +12,8 @@
 #include <utility>
 #include <vector>
 
+#include <unistd.h>
+
 #include "common/error.hpp"
 #include "common/hdf5.hpp"
 #include "common/log.hpp"
@@ -20,10 +22,32 @@
 
 namespace nvh::solve::testing {
 
+/// This test process's scratch folder under the system's temporary folder, removed with everything in it when
+/// the process exits (ctest runs each test in a process of its own; a forked child leaves it to its parent).
+class ProcessTempDir {
+ public:
+  ProcessTempDir()
+      : owner_(::getpid()),
+        path_(std::filesystem::temp_directory_path() / ("nvh_solve_tests_" + std::to_string(owner_))) {
+    std::filesystem::create_directories(path_);
+  }
+  ~ProcessTempDir() {
+    std::error_code ignored;
+    if (::getpid() == owner_) std::filesystem::remove_all(path_, ignored);
+  }
+  ProcessTempDir(const ProcessTempDir&) = delete;
+  ProcessTempDir& operator=(const ProcessTempDir&) = delete;
+  const std::filesystem::path& path() const { return path_; }
+
+ private:
+  pid_t owner_;
+  std::filesystem::path path_;
+};
+
 inline std::filesystem::path temp_path(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() / ("nvh_solve_tests_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
-  return dir / name;
+  static const ProcessTempDir dir;
+  std::filesystem::create_directories(dir.path());  // a test may have removed it
+  return dir.path() / name;
 }
 
 /// Parse the scene `text` as if it were the file `name`.toml in folder `base` (where the files it names -
