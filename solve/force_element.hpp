@@ -61,6 +61,7 @@ struct StateDefinition {
   std::string unit;
   bool differential = true;  // false: algebraic (no rate in its residual row)
   double initial = 0.0;
+  bool velocity = false;  // a mass's velocity (m/s, rad/s): the integrators give it `velocity_atol`
 };
 
 struct ElementInput {

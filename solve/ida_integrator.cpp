@@ -68,11 +68,13 @@ class IdaIntegrator final : public Integrator {
     N_Vector atol = N_VNew_Serial(n, ctx_);
     view(atol) = (view(id).array() > 0).select(Eigen::VectorXd::Constant(n, s.atol),
                                                Eigen::VectorXd::Constant(n, s.multiplier_atol));
-    // The bodies' velocities may have their own (velocity_atol): a lightly damped stiff contact (a valve on
-    // its seat) rings with amplitudes of nanometres but velocities above a position-sized atol, and the
-    // error test would follow that ringing with microsecond steps (docs/scene-format.md, [integrator]).
+    // The velocities may have their own (velocity_atol): a lightly damped stiff contact (a valve on its seat)
+    // rings with amplitudes of nanometres but velocities above a position-sized atol, and the error test
+    // would follow that ringing with microsecond steps (docs/scene-format.md, [integrator]). All velocity
+    // unknowns alike: the bodies' and the elements' (a pushrod chain's masses ring the same way).
     if (s.velocity_atol > 0)
-      view(atol) = (model.velocity_mask().array() > 0).select(Eigen::VectorXd::Constant(n, s.velocity_atol), view(atol));
+      view(atol) = (model.velocity_tolerance_mask().array() > 0)
+                       .select(Eigen::VectorXd::Constant(n, s.velocity_atol), view(atol));
     check(IDASVtolerances(mem_, s.rtol, atol), "IDASVtolerances");
     N_VDestroy(atol);
     check(IDASetId(mem_, id), "IDASetId");

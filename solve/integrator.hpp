@@ -16,7 +16,7 @@ struct IntegratorSettings {
   double rtol = 1e-6;
   double atol = 1e-8;
   double multiplier_atol = 1e-3;  // absolute tolerance of the multipliers (N, N m; index-2 variables)
-  double velocity_atol = 0;       // absolute tolerance of the bodies' velocities (m/s, rad/s); 0: atol
+  double velocity_atol = 0;       // of every velocity, bodies' and elements' (m/s, rad/s); 0: atol
   double max_step = 0;            // s, 0 = no limit
   double initial_step = 0;        // s, 0 = automatic
   int max_order = 5;              // IDA

@@ -232,6 +232,16 @@ Eigen::VectorXd Model::velocity_mask() const {
   return m;
 }
 
+Eigen::VectorXd Model::velocity_tolerance_mask() const {
+  Eigen::VectorXd m = velocity_mask();
+  for (const auto& f : forces) {
+    const auto states = f.element->states();
+    for (int s = 0; s < f.state_count; ++s)
+      if (states[s].velocity) m[f.state_offset + s] = 1;
+  }
+  return m;
+}
+
 std::string Model::describe_state(int k) const {
   for (std::size_t b = 0; b < bodies.size(); ++b) {
     const int o = body_offset_[b], nq = bodies[b]->position_count();

@@ -109,8 +109,11 @@ class Model {
   Eigen::VectorXd differential_mask() const;
   /// 1 for the variables in the integrators' error test: the differential ones less the energy integrals.
   Eigen::VectorXd error_test_mask() const;
-  /// 1 on the bodies' velocity coordinates w, 0 elsewhere (the `velocity_atol` of the integrator).
+  /// 1 on the bodies' velocity coordinates w, 0 elsewhere.
   Eigen::VectorXd velocity_mask() const;
+  /// 1 on every velocity unknown - the bodies' w and the elements' velocity states (a mass chain's masses) -
+  /// 0 elsewhere: where the integrators apply `velocity_atol`.
+  Eigen::VectorXd velocity_tolerance_mask() const;
   /// Per state, a human-readable owner ("body crank: w[3]", "joint pin: lambda point-x") for messages.
   std::string describe_state(int k) const;
 

@@ -241,8 +241,8 @@ class SplitIntegrator final : public Integrator {
         (mask_.array() > 0)
             .select(Eigen::VectorXd::Constant(n, s.atol), Eigen::VectorXd::Constant(n, s.multiplier_atol));
     if (s.velocity_atol > 0)
-      atol_ =
-          (model.velocity_mask().array() > 0).select(Eigen::VectorXd::Constant(n, s.velocity_atol), atol_);
+      atol_ = (model.velocity_tolerance_mask().array() > 0)
+                  .select(Eigen::VectorXd::Constant(n, s.velocity_atol), atol_);
     gauss_seidel_ = s.exchange == "gauss-seidel";
     groups_.reserve(partition_.groups);
     for (int g = 0; g < partition_.groups; ++g) groups_.push_back(std::make_unique<Group>());

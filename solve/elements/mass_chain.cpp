@@ -76,7 +76,11 @@ class MassChain final : public ForceElement {
     std::vector<StateDefinition> s;
     for (int k = 1; k <= n_; ++k) {
       s.push_back({"position_" + std::to_string(k), "m", true, p_.initial[k - 1]});
-      s.push_back({"velocity_" + std::to_string(k), "m/s", true, p_.initial_velocity[k - 1]});
+      s.push_back({.name = "velocity_" + std::to_string(k),
+                   .unit = "m/s",
+                   .differential = true,
+                   .initial = p_.initial_velocity[k - 1],
+                   .velocity = true});
     }
     return s;
   }

@@ -271,7 +271,7 @@ TEST(FlexibleRocker, BridgeTiltBetweenTheValvesStaysAtRoundOffBeforeTheEvent) {
        {"end_angle_deg = 760", "end_angle_deg = 180"},
        {"rtol = 1e-6", "rtol = 1e-9"},
        {"atol = 1e-9", "atol = 1e-12"},
-       {"velocity_atol = 1e-5", "velocity_atol = 1e-12"},
+       {"velocity_atol = 2e-7", "velocity_atol = 1e-12"},
        {"sample_rate_hz = 40000", "sample_rate_hz = 20000"}});
   const fs::path file =
       testing::run_text_at(text, "bridge_flexible_rocker", dir, dir / "bridge_flexible_rocker.results.h5");

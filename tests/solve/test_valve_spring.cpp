@@ -331,6 +331,42 @@ TEST(MassChain, EqualsTheValveSpringWithoutDeadCoils) {
   EXPECT_LT(std::abs(f_i / expected - 1), 1e-9);
 }
 
+// `velocity_atol` governs the chain's masses' velocities as it does the bodies' (solve/model.cpp,
+// velocity_tolerance_mask): the free surge of the fixed-fixed chain (mode-shape start, 10 um, about 0.04 m/s)
+// with the positions held to atol = 1e-13 m and the velocities to velocity_atol = 1e-13 or 1e-5 m/s. The loose
+// velocities must cost fewer steps (before, the key reached no chain state: the step counts were equal), and
+// both runs keep the loaded string's frequency (closed form above) within 1e-3.
+TEST(MassChain, VelocityToleranceReachesTheMassesVelocities) {
+  Spring s;
+  const int n = 5;
+  std::string shape = "initial_displacement = [";
+  for (int j = 1; j <= n; ++j) shape += (j > 1 ? ", " : "") + num(1e-5 * std::sin(j * kPi / (n + 1)));
+  shape += "]\n";
+  auto run = [&](const std::string& velocity_atol, RunSummary& summary) {
+    std::string text =
+        fixed_scene(s.installed, s.keys() + "masses = 5\n" + shape, 20 / s.chain_hz(n), 200 * s.chain_hz(n));
+    text.replace(text.find("rtol = 1e-11\natol = 1e-15"), 25,
+                 "rtol = 1e-8\natol = 1e-13\nvelocity_atol = " + velocity_atol);
+    const auto file = run_text(text, "chain_velocity_atol_" + velocity_atol, &summary);
+    const Eigen::VectorXd t = signal(file, "time"), x1 = signal(file, "forces/spring/x_1");
+    std::vector<double> up;
+    for (Eigen::Index j = 1; j < t.size(); ++j)
+      if (x1[j - 1] < 0 && x1[j] >= 0)
+        up.push_back(t[j - 1] - x1[j - 1] / (x1[j] - x1[j - 1]) * (t[j] - t[j - 1]));
+    EXPECT_GE(up.size(), 10u);
+    return up.size() < 2 ? 0.0 : (up.size() - 1) / (up.back() - up.front());
+  };
+  RunSummary tight, loose;
+  const double f_tight = run("1e-13", tight), f_loose = run("1e-5", loose);
+  std::printf(
+      "measured: %ld steps at velocity_atol 1e-13 m/s (surge error %.2e), %ld at 1e-5 (error %.2e); "
+      "tolerance 1e-3, loose < 0.8 x tight steps\n",
+      tight.statistics.steps, f_tight / s.chain_hz(n) - 1, loose.statistics.steps, f_loose / s.chain_hz(n) - 1);
+  EXPECT_LT(loose.statistics.steps, 0.8 * tight.statistics.steps);
+  EXPECT_LT(std::abs(f_tight / s.chain_hz(n) - 1), 1e-3);
+  EXPECT_LT(std::abs(f_loose / s.chain_hz(n) - 1), 1e-3);
+}
+
 // A chain between two free point masses (a pushrod between two moving bodies), no external force: the total
 // momentum m_a v_a + m_b v_b + sum m_k v_k (the states are the masses' absolute velocities along the line)
 // stays at its initial value - Newton's third law, exact for a chain along a fixed line; a chain integrated
