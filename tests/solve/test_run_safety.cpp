@@ -10,6 +10,7 @@
 #include <chrono>
 #include <csignal>
 #include <fstream>
+#include <functional>
 #include <limits>
 #include <thread>
 
@@ -115,16 +116,19 @@ TEST(SolveRunSafety, SigtermStopsARunAtAHugeSampleRateInBoundedMemory) {
   EXPECT_EQ(cp_samples[cp_samples.size() - 1], static_cast<double>(f.root().read_vector("time").size()));
 }
 
-/// Delegates to an element, but its force is NaN from `after` s on: a force that turns non-finite mid-run.
-class NanAfter final : public ForceElement {
+/// Delegates to an element, and from `after` s on lets `change` alter the wrench at its marker 0 (given the
+/// element's input): a force that turns bad mid-run.
+class ChangedAfter final : public ForceElement {
  public:
-  NanAfter(std::unique_ptr<ForceElement> inner, double after) : inner_(std::move(inner)), after_(after) {}
+  using Change = std::function<void(const ElementInput&, Wrench&)>;
+  ChangedAfter(std::unique_ptr<ForceElement> inner, double after, Change change)
+      : inner_(std::move(inner)), after_(after), change_(std::move(change)) {}
   std::string type() const override { return inner_->type(); }
   int marker_count() const override { return inner_->marker_count(); }
   std::vector<StateDefinition> states() const override { return inner_->states(); }
   void evaluate(const ElementInput& in, ElementOutput& out) const override {
     inner_->evaluate(in, out);
-    if (in.time >= after_) out.wrenches[0].force.x() = std::numeric_limits<double>::quiet_NaN();
+    if (in.time >= after_) change_(in, out.wrenches[0]);
   }
   std::vector<Channel> channels() const override { return inner_->channels(); }
   void channel_values(const ElementInput& in, std::span<double> v) const override {
@@ -135,7 +139,15 @@ class NanAfter final : public ForceElement {
  private:
   std::unique_ptr<ForceElement> inner_;
   double after_;
+  Change change_;
 };
+
+/// The force turns NaN from `after` s on.
+std::unique_ptr<ForceElement> nan_after(std::unique_ptr<ForceElement> inner, double after) {
+  return std::make_unique<ChangedAfter>(std::move(inner), after, [](const ElementInput&, Wrench& w) {
+    w.force.x() = std::numeric_limits<double>::quiet_NaN();
+  });
+}
 
 constexpr const char* kMount = R"(
 [[force]]
@@ -159,7 +171,7 @@ TEST(SolveRunSafety, ANonFiniteForceFailsTheRunNamingTheElementAndTheTime) {
         parse_scene(text, "slider_crank.toml", std::filesystem::path(NVH_SOURCE_DIR) / "testdata/scenes");
     auto& entry = scene.model.forces.back();
     ASSERT_EQ(entry.name, "mount");
-    entry.element = std::make_unique<NanAfter>(std::move(entry.element), 0.005);
+    entry.element = nan_after(std::move(entry.element), 0.005);
     const auto out = testing::temp_path("nan_force_" + method + ".h5");
     const std::string e = run_error(scene, out);
     std::printf("measured (%s): %s\n", method.c_str(), e.c_str());
@@ -179,30 +191,6 @@ TEST(SolveRunSafety, ANonFiniteForceFailsTheRunNamingTheElementAndTheTime) {
     EXPECT_LE(f.root().read_vector("checkpoint/time").maxCoeff(), 0.005);
   }
 }
-
-/// Delegates to an element, but from `after` s on adds a spring of -1e14 N/m from the origin at its marker: a
-/// divergence no step can follow for long (the state grows by e per 0.1 us).
-class RepelAfter final : public ForceElement {
- public:
-  RepelAfter(std::unique_ptr<ForceElement> inner, double after) : inner_(std::move(inner)), after_(after) {}
-  std::string type() const override { return inner_->type(); }
-  int marker_count() const override { return inner_->marker_count(); }
-  std::vector<StateDefinition> states() const override { return inner_->states(); }
-  void evaluate(const ElementInput& in, ElementOutput& out) const override {
-    inner_->evaluate(in, out);
-    if (in.time < after_) return;
-    out.wrenches[0].force += 1e14 * in.markers[0].position;
-  }
-  std::vector<Channel> channels() const override { return inner_->channels(); }
-  void channel_values(const ElementInput& in, std::span<double> v) const override {
-    inner_->channel_values(in, v);
-  }
-  ElementEnergy energy(const ElementInput& in) const override { return inner_->energy(in); }
-
- private:
-  std::unique_ptr<ForceElement> inner_;
-  double after_;
-};
 
 // A run that IDA cannot continue names the unknown with the largest weighted local error among those in its
 // error test - the bodies' coordinates and velocities, the elements' differential states - never a joint's
@@ -268,7 +256,11 @@ end_time = 0.05
   Scene scene = parse_scene(text, "pendulum.toml", ".");
   auto& entry = scene.model.forces.back();
   ASSERT_EQ(entry.name, "spring");
-  entry.element = std::make_unique<RepelAfter>(std::move(entry.element), 0.005);
+  // From 5 ms a spring of -1e14 N/m from the origin: the state grows by e per 0.1 us, no step follows it long.
+  entry.element = std::make_unique<ChangedAfter>(std::move(entry.element), 0.005,
+                                                 [](const ElementInput& in, Wrench& w) {
+                                                   w.force += 1e14 * in.markers[0].position;
+                                                 });
   const std::string e = run_error(scene, testing::temp_path("noise_force.h5"));
   std::printf("measured: %s\n", e.c_str());
   const auto at = e.find("the largest weighted error is in ");
@@ -286,7 +278,7 @@ TEST(SolveRunSafety, ANonFiniteStartNamesTheElementAndWritesNothing) {
   Scene scene =
       parse_scene(text, "slider_crank.toml", std::filesystem::path(NVH_SOURCE_DIR) / "testdata/scenes");
   auto& entry = scene.model.forces.back();
-  entry.element = std::make_unique<NanAfter>(std::move(entry.element), 0.0);
+  entry.element = nan_after(std::move(entry.element), 0.0);
   const auto out = testing::temp_path("nan_start.h5");
   std::filesystem::remove(out);
   const std::string e = run_error(scene, out);
