@@ -197,8 +197,8 @@ TEST(SolveRunSafety, ANonFiniteForceFailsTheRunNamingTheElementAndTheTime) {
 // multiplier, which IDA leaves out of the test (IDASetSuppressAlg) and whose estimates are large anyway (they
 // are known to round-off / h only). A pendulum on a revolute joint (5 equations, 2 x 5 multipliers) beside a
 // free ball on a spring that turns into a repelling one at 5 ms (the ball flies off exponentially).
-// (On this scene the ball's velocity also leads without the mask; on the benchmark valvetrain the multipliers'
-// estimates led in 76 % of IDA's steps, a diagnostic run of 2026-12-02.)
+// (On this scene the ball's velocity also leads without the mask; on the benchmark valvetrain the
+// multipliers' estimates led in 76 % of IDA's steps, a diagnostic run of 2026-12-02.)
 TEST(SolveRunSafety, AFailedStepNamesAnUnknownOfTheErrorTest) {
   const std::string text = R"(
 [scene]
@@ -256,12 +256,12 @@ end_time = 0.05
   Scene scene = parse_scene(text, "pendulum.toml", ".");
   auto& entry = scene.model.forces.back();
   ASSERT_EQ(entry.name, "spring");
-  // From 5 ms a spring of -1e14 N/m from the origin: the state grows by e per 0.1 us, no step follows it long.
-  entry.element = std::make_unique<ChangedAfter>(std::move(entry.element), 0.005,
-                                                 [](const ElementInput& in, Wrench& w) {
-                                                   w.force += 1e14 * in.markers[0].position;
-                                                 });
-  const std::string e = run_error(scene, testing::temp_path("noise_force.h5"));
+  // From 5 ms a spring of -1e14 N/m from the origin: the state grows by e per 0.1 us, no step follows it
+  // long.
+  entry.element = std::make_unique<ChangedAfter>(
+      std::move(entry.element), 0.005,
+      [](const ElementInput& in, Wrench& w) { w.force += 1e14 * in.markers[0].position; });
+  const std::string e = run_error(scene, testing::temp_path("repelled_ball.h5"));
   std::printf("measured: %s\n", e.c_str());
   const auto at = e.find("the largest weighted error is in ");
   ASSERT_NE(at, std::string::npos) << e;

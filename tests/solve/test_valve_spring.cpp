@@ -32,7 +32,8 @@ using testing::signal;
 constexpr double kPi = std::numbers::pi;
 
 /// The frequency (Hz) of a signal x(t) from its rising zero crossings (linearly interpolated): the mean over
-/// all the periods between the first and the last; 0 if there are fewer than `least` crossings (a test failure).
+/// all the periods between the first and the last; 0 if there are fewer than `least` crossings (a test
+/// failure).
 double rising_crossing_hz(const Eigen::VectorXd& t, const Eigen::VectorXd& x, std::size_t least = 10) {
   std::vector<double> up;
   for (Eigen::Index j = 1; j < t.size(); ++j)
@@ -336,9 +337,9 @@ TEST(MassChain, EqualsTheValveSpringWithoutDeadCoils) {
 
 // `velocity_atol` governs the chain's masses' velocities as it does the bodies' (solve/model.cpp,
 // velocity_tolerance_mask): the free surge of the fixed-fixed chain (mode-shape start, 10 um, about 0.04 m/s)
-// with the positions held to atol = 1e-13 m and the velocities to velocity_atol = 1e-13 or 1e-5 m/s. The loose
-// velocities must cost fewer steps (before, the key reached no chain state: the step counts were equal), and
-// both runs keep the loaded string's frequency (closed form above) within 1e-3.
+// with the positions held to atol = 1e-13 m and the velocities to velocity_atol = 1e-13 or 1e-5 m/s. The
+// loose velocities must cost fewer steps (before, the key reached no chain state: the step counts were
+// equal), and both runs keep the loaded string's frequency (closed form above) within 1e-3.
 TEST(MassChain, VelocityToleranceReachesTheMassesVelocities) {
   Spring s;
   const int n = 5;
@@ -358,7 +359,8 @@ TEST(MassChain, VelocityToleranceReachesTheMassesVelocities) {
   std::printf(
       "measured: %ld steps at velocity_atol 1e-13 m/s (surge error %.2e), %ld at 1e-5 (error %.2e); "
       "tolerance 1e-3, loose < 0.8 x tight steps\n",
-      tight.statistics.steps, f_tight / s.chain_hz(n) - 1, loose.statistics.steps, f_loose / s.chain_hz(n) - 1);
+      tight.statistics.steps, f_tight / s.chain_hz(n) - 1, loose.statistics.steps,
+      f_loose / s.chain_hz(n) - 1);
   EXPECT_LT(loose.statistics.steps, 0.8 * tight.statistics.steps);
   EXPECT_LT(std::abs(f_tight / s.chain_hz(n) - 1), 1e-3);
   EXPECT_LT(std::abs(f_loose / s.chain_hz(n) - 1), 1e-3);
