@@ -250,6 +250,33 @@ void RigidBody::add_wrench_derivative(int marker, std::span<const double> q, con
   out.block<3, 4>(3, 3) += (skew(markers()[marker].position) * at * skew(force) + at * skew(torque)) * theta;
 }
 
+std::string frame_position_meaning(int r) {
+  static const char* const kNames[7] = {"position x",         "position y",         "position z",
+                                        "Euler parameter p0", "Euler parameter p1", "Euler parameter p2",
+                                        "Euler parameter p3"};
+  return r >= 0 && r < 7 ? kNames[r] : std::string();
+}
+
+std::string frame_velocity_meaning(int r) {
+  static const char* const kNames[6] = {"velocity x",
+                                        "velocity y",
+                                        "velocity z",
+                                        "angular velocity x (body axes)",
+                                        "angular velocity y (body axes)",
+                                        "angular velocity z (body axes)"};
+  return r >= 0 && r < 6 ? kNames[r] : std::string();
+}
+
+std::string RigidBody::state_meaning(int r) const {
+  return r < 7 ? frame_position_meaning(r) : frame_velocity_meaning(r - 7);
+}
+
+std::string PointMass::state_meaning(int r) const {
+  static const char* const kNames[6] = {"position x", "position y", "position z",
+                                        "velocity x", "velocity y", "velocity z"};
+  return r >= 0 && r < 6 ? kNames[r] : std::string();
+}
+
 // Rows r' - v, p' - 1/2 L(p)^T omega + beta (p.p - 1) p  (L(p)^T omega = B(omega) p, rotation.hpp) of a
 // floating frame (rigid and flexible bodies): written into the first 7 rows, the rest zeroed.
 void floating_frame_kinematic_jacobian(const Vec4& p, const Vec3& omega, double beta,

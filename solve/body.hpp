@@ -40,6 +40,11 @@ struct MarkerJacobian {
 /// d/dq and d/dw of the kinematic rows r' - v, p' - 1/2 L(p)^T omega + beta (p.p - 1) p of a floating frame
 /// (position, Euler parameters p, velocity, angular velocity omega in body axes): the first 7 rows of d_q
 /// (nq columns) and d_w (nw columns); everything else zeroed. Rigid and flexible bodies share it.
+/// The words for the first states of a floating frame, q = [r, p, ...], w = [v, omega, ...] (rigid and
+/// flexible bodies): r-th position (0 <= r < 7) or velocity (0 <= r < 6) of the frame.
+std::string frame_position_meaning(int r);
+std::string frame_velocity_meaning(int r);
+
 void floating_frame_kinematic_jacobian(const Vec4& p, const Vec3& omega, double beta,
                                        Eigen::Ref<Eigen::MatrixXd> d_q, Eigen::Ref<Eigen::MatrixXd> d_w);
 
@@ -63,6 +68,9 @@ class Body {
   virtual int velocity_count() const = 0;   // size of w
   virtual int algebraic_count() const { return 0; }  // multipliers owned by the body (normalization)
   int state_count() const { return position_count() + velocity_count() + algebraic_count(); }
+  /// What the body's r-th state is, in words, for messages and the run's summary (q first, then w, then the
+  /// multipliers): "velocity y", "modal velocity 15 (40.0 kHz)". Empty if the body does not say.
+  virtual std::string state_meaning(int) const { return {}; }
 
   /// Initial q and w (set by the scene), in the layout of this body.
   virtual Eigen::VectorXd initial_positions() const = 0;
@@ -201,6 +209,7 @@ class RigidBody final : public Body {
  public:
   RigidBody(std::string name, double mass, const Mat3& inertia_cm, InitialState init);
   std::string kind() const override { return "rigid"; }
+  std::string state_meaning(int r) const override;
   int position_count() const override { return 7; }
   int velocity_count() const override { return 6; }
   Eigen::VectorXd initial_positions() const override;
@@ -251,6 +260,7 @@ class PointMass final : public Body {
  public:
   PointMass(std::string name, double mass, InitialState init);
   std::string kind() const override { return "point-mass"; }
+  std::string state_meaning(int r) const override;
   int position_count() const override { return 3; }
   int velocity_count() const override { return 3; }
   Eigen::VectorXd initial_positions() const override;

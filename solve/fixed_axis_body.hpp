@@ -87,6 +87,7 @@ class SliderBody final : public FixedAxisBody {
   SliderBody(std::string name, double mass, const Vec3& axis, InitialState init)
       : FixedAxisBody(std::move(name), mass, Mat3::Zero(), axis, init.position, init) {}
   std::string kind() const override { return "slider"; }
+  std::string state_meaning(int r) const override { return r == 0 ? "travel s" : "speed s'"; }
   Eigen::VectorXd initial_velocities() const override;
   void inertia_residual(std::span<const double> q, std::span<const double> w, std::span<const double> wdot,
                         const Vec3& gravity, std::span<double> rows) const override;
@@ -124,6 +125,7 @@ class RotorBody final : public FixedAxisBody {
   RotorBody(std::string name, double mass, const Mat3& inertia_cm, const Vec3& axis, const Vec3& pivot,
             InitialState init);
   std::string kind() const override { return "rotor"; }
+  std::string state_meaning(int r) const override { return r == 0 ? "angle theta" : "angular speed theta'"; }
   Eigen::VectorXd initial_velocities() const override;
   void inertia_residual(std::span<const double> q, std::span<const double> w, std::span<const double> wdot,
                         const Vec3& gravity, std::span<double> rows) const override;

@@ -160,6 +160,23 @@ FlexibleData load_flexible_data(const std::filesystem::path& file, int modes) {
 }
 
 // ---------------------------------------------------------------- the body
+std::string FlexibleBody::state_meaning(int r) const {
+  const auto mode = [&](const char* what, int k) {
+    std::ostringstream s;
+    s << what << " " << k + 1;
+    if (k < data_.frequency_hz.size()) {
+      s.precision(2);
+      s << ", " << std::fixed << data_.frequency_hz[k] / 1000.0 << " kHz";
+    }
+    return s.str();
+  };
+  if (r < 7) return frame_position_meaning(r);
+  if (r < 7 + n_) return mode("modal coordinate", r - 7);
+  if (r < 13 + n_) return frame_velocity_meaning(r - 7 - n_);
+  if (r < 13 + 2 * n_) return mode("modal velocity", r - 13 - n_);
+  return {};
+}
+
 FlexibleBody::FlexibleBody(std::string name, FlexibleData data, Coupling coupling, InitialState init,
                            Eigen::VectorXd eta0, Eigen::VectorXd eta_rate0,
                            std::vector<int> point_of_user_marker)

@@ -72,6 +72,8 @@ class FlexibleBody final : public Body {
                Eigen::VectorXd eta0, Eigen::VectorXd eta_rate0, std::vector<int> point_of_user_marker = {});
 
   std::string kind() const override { return "flexible"; }
+  /// The frame's states as a rigid body's, then "modal coordinate k" / "modal velocity k" with the frequency.
+  std::string state_meaning(int r) const override;
   int position_count() const override { return 7 + n_; }
   int velocity_count() const override { return 6 + n_; }
   Eigen::VectorXd initial_positions() const override;

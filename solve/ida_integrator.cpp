@@ -65,6 +65,8 @@ class IdaIntegrator final : public Integrator {
     // an index-2 system determines only to round-off / h (a tight atol on them stalls Newton's test).
     N_Vector id = N_VNew_Serial(n, ctx_);
     view(id) = model.error_test_mask();  // the energy integrals stay out of the error test
+    error_test_mask_ = view(id);
+    error_test_steps_.assign(static_cast<std::size_t>(n), 0);
     N_Vector atol = N_VNew_Serial(n, ctx_);
     view(atol) = (view(id).array() > 0).select(Eigen::VectorXd::Constant(n, s.atol),
                                                Eigen::VectorXd::Constant(n, s.multiplier_atol));
@@ -176,6 +178,7 @@ class IdaIntegrator final : public Integrator {
     s.residual_evaluations += before_.residual_evaluations + jacobian_.residual_evaluations();
     s.events = events_;
     s.steps_at_order = steps_at_order_;
+    s.error_test_steps = error_test_steps_;
     int order = 0;
     IDAGetLastOrder(mem_, &order), s.last_order = order;
     IDAGetLastStep(mem_, &s.last_step);
@@ -202,6 +205,21 @@ class IdaIntegrator final : public Integrator {
     IDAGetLastOrder(mem_, &order);
     if (order >= 1 && order <= 5) steps_at_order_[order - 1] += n - steps_seen_;
     steps_seen_ = n;
+    count_error_test_holder();
+  }
+
+  /// The unknown of the error test with the largest weighted local error estimate in the step just taken
+  /// (IntegratorStatistics::error_test_steps): 3 n operations a step.
+  void count_error_test_holder() {
+    if (IDAGetErrWeights(mem_, work_) < 0 || IDAGetEstLocalErrors(mem_, work2_) < 0) return;
+    const double* weight = N_VGetArrayPointer(work_);
+    const double* error = N_VGetArrayPointer(work2_);
+    int best = -1;
+    double largest = -1.0;
+    for (int k = 0; k < static_cast<int>(error_test_steps_.size()); ++k)
+      if (error_test_mask_[k] > 0)
+        if (const double e = std::abs(error[k] * weight[k]); e > largest) largest = e, best = k;
+    if (best >= 0) ++error_test_steps_[best];
   }
 
   /// IDA's counters, which IDAReInit resets.
@@ -262,10 +280,10 @@ class IdaIntegrator final : public Integrator {
     std::string culprit;
     if (IDAGetErrWeights(mem_, work_) >= 0 && IDAGetEstLocalErrors(mem_, work2_) >= 0) {
       const Eigen::VectorXd e =
-          view(work2_).cwiseProduct(view(work_)).cwiseAbs().cwiseProduct(model_.error_test_mask());
+          view(work2_).cwiseProduct(view(work_)).cwiseAbs().cwiseProduct(error_test_mask_);
       Eigen::Index k = 0;
       e.maxCoeff(&k);
-      culprit = model_.describe_state(static_cast<int>(k));
+      culprit = model_.explain_state(static_cast<int>(k));
     }
     std::ostringstream msg;
     // The name is malloc'd by SUNDIALS (IDAGetReturnFlagName): freed here, it leaked on every failure.
@@ -370,6 +388,8 @@ class IdaIntegrator final : public Integrator {
   double h0_ = 0;
   IntegratorStatistics before_;   // IDA's counters summed over the restarts
   std::array<long, 5> steps_at_order_{};  // accepted steps per BDF order, over the restarts
+  Eigen::VectorXd error_test_mask_;       // Model::error_test_mask(): 1 where the error test looks
+  std::vector<long> error_test_steps_;    // per unknown: the steps it held the error test (over the restarts)
   long steps_seen_ = 0;                   // IDAGetNumSteps at the last count (since the last restart)
   double cpu_residual_ = 0, cpu_jacobian_ = 0, cpu_total_ = 0;
   std::exception_ptr pending_;

@@ -68,6 +68,10 @@ struct IntegratorStatistics {
   // IDA: accepted steps taken at BDF order 1..5 (IDA picks the order itself, up to max_order); zeros for
   // generalized-alpha. Results: steps_at_order_1 .. steps_at_order_5.
   std::array<long, 5> steps_at_order{};
+  // IDA and the split integrator's groups: per unknown of y, the accepted steps in which it had the largest
+  // weighted local error estimate of the error test - the unknown that set the step size there. Empty where
+  // not counted (generalized-alpha). Results: /solver/error_test_steps; the log names the leading ones.
+  std::vector<long> error_test_steps;
   // wall-clock seconds (steady_clock) in the residual, the Jacobian and the rest (results: wall_*_s)
   double cpu_residual_s = 0, cpu_jacobian_s = 0, cpu_factorization_s = 0;
   // the Newton matrix's factorization: "klu" or "dense" (IDA, newton_matrix_solver.hpp), "sparse-lu"

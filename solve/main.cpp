@@ -170,6 +170,11 @@ int main(int argc, char** argv) {
       out << "; constraint drift at most " << s.max_position_drift << " (position), " << s.max_velocity_drift
           << " (velocity)";
     log.info(out.str());
+    // Which unknowns set the step: what a user changes first when a run is slow (tolerances, velocity_atol,
+    // fewer modes; docs/scene-format.md section 7).
+    if (const std::string held = error_test_holders(scene.model, s.statistics.error_test_steps);
+        !held.empty())
+      log.info("steps set by (IDA's error test, share of the steps): " + held);
     return s.status == "complete" ? 0 : static_cast<int>(ExitCode::kInterrupted);
   } catch (const Interrupted& e) {  // before the results file existed: nothing written
     log.error(std::string(e.what()) + "; nothing written");

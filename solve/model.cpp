@@ -269,6 +269,19 @@ std::string Model::describe_state(int k) const {
   return "state " + std::to_string(k);
 }
 
+std::string Model::explain_state(int k) const {
+  std::string words = describe_state(k);
+  for (std::size_t b = 0; b < bodies.size(); ++b) {
+    const int o = body_offset_[b];
+    if (k >= o && k < o + bodies[b]->state_count()) {
+      const std::string meaning = bodies[b]->state_meaning(k - o);
+      if (!meaning.empty()) words += " (" + meaning + ")";
+      break;
+    }
+  }
+  return words;
+}
+
 // ---------------------------------------------------------------- residual
 void Model::evaluate_element(std::size_t fi, double t, const double* y, const double* yp,
                              double* state_rows) const {

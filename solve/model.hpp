@@ -116,6 +116,9 @@ class Model {
   Eigen::VectorXd velocity_tolerance_mask() const;
   /// Per state, a human-readable owner ("body crank: w[3]", "joint pin: lambda point-x") for messages.
   std::string describe_state(int k) const;
+  /// describe_state with the state's meaning where its body gives one (Body::state_meaning):
+  /// "body 'rocker' w[20] (modal velocity 15, 40.00 kHz)". For the run's summary and failure messages.
+  std::string explain_state(int k) const;
 
   /// F(t, y, y').
   void residual(double t, const double* y, const double* yp, double* f) const;

@@ -313,6 +313,11 @@ void ResultsWriter::finish(const std::string& status, const std::string& message
   if (!st.linear_solver.empty()) g.set_attribute("linear_solver", st.linear_solver);
   g.set_attribute("wall_linear_algebra_and_other_s", st.cpu_factorization_s);
   g.set_attribute("wall_s", wall_seconds);
+  // Per unknown (the order of /checkpoint/state_names): the accepted steps it held the error test in.
+  if (!st.error_test_steps.empty() && !g.exists("error_test_steps")) {
+    std::vector<std::int64_t> held(st.error_test_steps.begin(), st.error_test_steps.end());
+    g.write("error_test_steps", std::span<const std::int64_t>(held));
+  }
   root.set_attribute("status", status);
   root.set_attribute("message", message);
   // Checked: the run's failure handler reports a status that did not reach the disk (a full disk).

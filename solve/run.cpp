@@ -1,5 +1,6 @@
 #include "solve/run.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <numbers>
@@ -34,6 +35,22 @@ void require_finite(const Model& model, double t, const Eigen::VectorXd& y, cons
 }
 
 }  // namespace
+
+std::string error_test_holders(const Model& model, const std::vector<long>& steps, int leading) {
+  long total = 0;
+  for (long n : steps) total += n;
+  if (total == 0) return {};
+  std::vector<int> order;
+  for (int k = 0; k < static_cast<int>(steps.size()); ++k)
+    if (steps[k] > 0) order.push_back(k);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return steps[a] > steps[b]; });
+  std::ostringstream out;
+  for (int i = 0; i < std::min<int>(leading, static_cast<int>(order.size())); ++i) {
+    const double share = 100.0 * static_cast<double>(steps[order[i]]) / static_cast<double>(total);
+    out << (i ? ", " : "") << model.explain_state(order[i]) << " " << std::lround(share) << " %";
+  }
+  return out.str();
+}
 
 RunSummary run_scene(Scene& scene, const RunOptions& options, const Provenance& provenance, const Logger& log) {
   const auto wall_start = std::chrono::steady_clock::now();

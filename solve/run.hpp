@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "common/log.hpp"
 #include "common/progress.hpp"
@@ -29,6 +30,11 @@ struct RunSummary {
   double max_velocity_drift = 0;  // largest |C w + Phi_t| over the checkpoints
   std::optional<SteadyStateResult> steady_state;  // with [steady_state]: cycles, convergence, kept rows
 };
+
+/// The unknowns that held the integrator's error test in most accepted steps (IntegratorStatistics::
+/// error_test_steps), the `leading` first, each with its share of the steps: "body 'valve' w[0] (velocity
+/// y) 61 %, ...". Empty if nothing was counted.
+std::string error_test_holders(const Model& model, const std::vector<long>& steps, int leading = 3);
 
 /// Integrate `scene` and write the results file. Throws nvh::Error on a failed run after marking the file
 /// "failed" with the message (the samples so far are kept).

@@ -237,6 +237,7 @@ class SplitIntegrator final : public Integrator {
     source_.assign(partition_.groups, kExtrapolated);
     f_.setZero(n), f0_.setZero(n), g0_.setZero(n);
     mask_ = model.error_test_mask();
+    stats_.error_test_steps.assign(static_cast<std::size_t>(model.size()), 0);
     atol_ =
         (mask_.array() > 0)
             .select(Eigen::VectorXd::Constant(n, s.atol), Eigen::VectorXd::Constant(n, s.multiplier_atol));
@@ -527,6 +528,7 @@ class SplitIntegrator final : public Integrator {
       IDAGetNumSteps(g.mem, &n);
       IDAGetLastOrder(g.mem, &order);
       if (order >= 1 && order <= 5) stats_.steps_at_order[order - 1] += n - steps_seen;
+      if (n > steps_seen) count_error_test_holder(g);
       steps_seen = n;
       g.non_finite.clear();
       g.record.add(tret, view(g.u).head(no), view(g.up).head(no));
@@ -753,6 +755,20 @@ class SplitIntegrator final : public Integrator {
     return msg.str();
   }
 
+  /// The group's unknown (of the full state; its own, not its partners' linearized responses) with the
+  /// largest weighted local error estimate in the step just taken (IntegratorStatistics::error_test_steps).
+  void count_error_test_holder(Group& g) {
+    if (IDAGetErrWeights(g.mem, g.work) < 0 || IDAGetEstLocalErrors(g.mem, g.work2) < 0) return;
+    const double* weight = N_VGetArrayPointer(g.work);
+    const double* error = N_VGetArrayPointer(g.work2);
+    int best = -1;
+    double largest = -1.0;
+    for (int i = 0; i < static_cast<int>(g.own.size()); ++i)
+      if (mask_[g.own[i]] > 0)
+        if (const double e = std::abs(error[i] * weight[i]); e > largest) largest = e, best = g.own[i];
+    if (best >= 0) ++stats_.error_test_steps[best];
+  }
+
   [[noreturn]] void fail(Group& g, int flag, double h, int pass) {
     double t_now = t_;
     IDAGetCurrentTime(g.mem, &t_now);
@@ -770,7 +786,7 @@ class SplitIntegrator final : public Integrator {
         if (mask_[i < no ? g.own[i] : g.partners[i - no]] == 0) e[i] = 0;
       e.maxCoeff(&k);
       msg << "; the largest weighted error is in "
-          << (k < no ? model_.describe_state(g.own[k])
+          << (k < no ? model_.explain_state(g.own[k])
                      : "the linearized response of " + model_.describe_state(g.partners[k - no]));
     }
     if (!g.message.empty()) msg << "; IDA says: " << g.message;

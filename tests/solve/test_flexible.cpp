@@ -11,6 +11,9 @@
 //   3. bad superelement files and bad keys are rejected naming the file, line and key.
 #include <gtest/gtest.h>
 
+#include <iomanip>
+#include <sstream>
+
 #include <unistd.h>
 #include <cmath>
 #include <cstdio>
@@ -452,6 +455,21 @@ TEST(FlexibleBody, UserMarkersAndInitialModalState) {
   const MarkerMotion start = body.marker_motion(body.find_marker("start"), qs, ws);
   const MarkerMotion on_a = body.marker_motion(body.find_marker("a"), qs, ws);
   EXPECT_LT((start.position - on_a.position).norm(), 1e-15);
+  // The states in words (the run summary's "steps set by", failure messages): q = [r, p, eta], w = [v, omega,
+  // eta'], the modes with the file's frequencies.
+  const SuperelementFile file = read_superelement(dir / "ok.h5");
+  const auto khz = [&](int k) {
+    std::ostringstream s;
+    s << std::fixed << std::setprecision(2) << file.frequency_hz[k] / 1000.0 << " kHz";
+    return s.str();
+  };
+  const std::string mode2 = "modal velocity 2, " + khz(1);
+  EXPECT_EQ(body.state_meaning(0), "position x");
+  EXPECT_EQ(body.state_meaning(6), "Euler parameter p3");
+  EXPECT_EQ(body.state_meaning(7), "modal coordinate 1, " + khz(0));
+  EXPECT_EQ(body.state_meaning(9 + 5), "angular velocity z (body axes)");
+  EXPECT_EQ(body.state_meaning(9 + 7), mode2);
+  EXPECT_EQ(s.model.explain_state(s.model.body_offset(0) + 9 + 7), "body 'beam' w[7] (" + mode2 + ")");
   fs::remove_all(dir);
 }
 
