@@ -12,6 +12,7 @@ two cam revolutions each (the KPIs read the second), with the integrator setting
     (one revolution lasts 60 / rpm s): < 1 is faster than real time;
   - the error of each KPI against a reference run of the same scene (IDA, rtol 1e-9, atol 1e-12): the largest
     valve lift, the largest and the smallest cam force over the event, the valve's seating velocity;
+  - for IDA, the unknown that set most of the steps and its share (solve's /solver/statistics/error_test_steps);
 and writes OUT/work_precision.png (CPU per revolution against the largest KPI error, per scene and method)
 and OUT/valvetrain_bench.csv. The output rate is 20 kHz for every run (output costs are in the CPU time).
 """
@@ -67,8 +68,16 @@ def kpis(results: Path, valve: str, seat: str, spring: str) -> dict:
     k = valvetrain_report.kpis(results, valve, seat, spring)
     with h5py.File(results, "r") as r:
         st = r["solver/statistics"].attrs
+        # The unknown that set most of IDA's steps (/solver/statistics/error_test_steps; none for g-alpha).
+        held = ""
+        if "error_test_steps" in r["solver/statistics"]:
+            counts = r["solver/statistics/error_test_steps"][:]
+            k_top = int(counts.argmax())
+            name = r["checkpoint/state_names"][k_top]
+            held = f"{name.decode() if isinstance(name, bytes) else name} {100 * counts[k_top] / max(1, counts.sum()):.0f} %"
         return {"lift_mm": k["lift_mm"], "fcam_max": k["cam_force_max"], "fcam_min": k["cam_force_min"],
-                "v_seat": k["seating_speed"], "cpu": float(st["wall_s"]), "steps": int(st["steps"])}
+                "v_seat": k["seating_speed"], "cpu": float(st["wall_s"]), "steps": int(st["steps"]),
+                "steps_set_by": held}
 
 
 def main() -> int:
@@ -97,7 +106,7 @@ def main() -> int:
         print(f"\n{scene} ({file}) at {args.cam_rpm:.0f} cam rpm ({2 * args.cam_rpm:.0f} engine rpm); one cam "
               f"revolution lasts {1e3 * rev_s:.1f} ms")
         print(f"{'setting':30s} {'steps':>7s} {'CPU/rev':>9s} {'x real':>7s} {'lift':>8s} {'Fcam max':>9s} "
-              f"{'Fcam min':>9s} {'v seat':>7s} {'max err':>8s}")
+              f"{'Fcam min':>9s} {'v seat':>7s} {'max err':>8s}  steps set by (most)")
         print(f"{'':30s} {'':>7s} {'[s]':>9s} {'time':>7s} {'[mm]':>8s} {'[N]':>9s} {'[N]':>9s} {'[m/s]':>7s} "
               f"{'[%]':>8s}")
         for label, integ in SETTINGS:
@@ -117,7 +126,7 @@ def main() -> int:
             rows.append({"scene": scene, "setting": label, "steps": k["steps"], "cpu_per_rev_s": cpu_rev,
                          "real_time_ratio": cpu_rev / rev_s, "max_kpi_error": err, **k})
             print(f"{label:30s} {k['steps']:7d} {cpu_rev:9.3f} {cpu_rev / rev_s:7.1f} {k['lift_mm']:8.3f} "
-                  f"{k['fcam_max']:9.1f} {k['fcam_min']:9.1f} {k['v_seat']:7.3f} {100 * err:8.3f}")
+                  f"{k['fcam_max']:9.1f} {k['fcam_min']:9.1f} {k['v_seat']:7.3f} {100 * err:8.3f}  {k['steps_set_by']}")
     with open(args.out / "valvetrain_bench.csv", "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
         w.writeheader()
