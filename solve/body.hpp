@@ -37,14 +37,14 @@ struct MarkerJacobian {
   MarkerJacobian shifted(const Vec3& d) const { return {jv - skew(d) * jw, jw}; }
 };
 
-/// d/dq and d/dw of the kinematic rows r' - v, p' - 1/2 L(p)^T omega + beta (p.p - 1) p of a floating frame
-/// (position, Euler parameters p, velocity, angular velocity omega in body axes): the first 7 rows of d_q
-/// (nq columns) and d_w (nw columns); everything else zeroed. Rigid and flexible bodies share it.
 /// The words for the first states of a floating frame, q = [r, p, ...], w = [v, omega, ...] (rigid and
 /// flexible bodies): r-th position (0 <= r < 7) or velocity (0 <= r < 6) of the frame.
 std::string frame_position_meaning(int r);
 std::string frame_velocity_meaning(int r);
 
+/// d/dq and d/dw of the kinematic rows r' - v, p' - 1/2 L(p)^T omega + beta (p.p - 1) p of a floating frame
+/// (position, Euler parameters p, velocity, angular velocity omega in body axes): the first 7 rows of d_q
+/// (nq columns) and d_w (nw columns); everything else zeroed. Rigid and flexible bodies share it.
 void floating_frame_kinematic_jacobian(const Vec4& p, const Vec3& omega, double beta,
                                        Eigen::Ref<Eigen::MatrixXd> d_q, Eigen::Ref<Eigen::MatrixXd> d_w);
 
@@ -69,7 +69,7 @@ class Body {
   virtual int algebraic_count() const { return 0; }  // multipliers owned by the body (normalization)
   int state_count() const { return position_count() + velocity_count() + algebraic_count(); }
   /// What the body's r-th state is, in words, for messages and the run's summary (q first, then w, then the
-  /// multipliers): "velocity y", "modal velocity 15 (40.0 kHz)". Empty if the body does not say.
+  /// multipliers): "velocity y", "modal velocity 15, 40.00 kHz". Empty if the body does not say.
   virtual std::string state_meaning(int) const { return {}; }
 
   /// Initial q and w (set by the scene), in the layout of this body.

@@ -208,10 +208,10 @@ class IdaIntegrator final : public Integrator {
     count_error_test_holder();
   }
 
-  /// The unknown of the error test with the largest weighted local error estimate in the step just taken
-  /// (IntegratorStatistics::error_test_steps): 3 n operations a step.
-  void count_error_test_holder() {
-    if (IDAGetErrWeights(mem_, work_) < 0 || IDAGetEstLocalErrors(mem_, work2_) < 0) return;
+  /// The unknown of the error test with the largest weighted local error estimate of the last step (or the
+  /// failed attempt), -1 if IDA has none: 3 n operations.
+  int largest_weighted_error() {
+    if (IDAGetErrWeights(mem_, work_) < 0 || IDAGetEstLocalErrors(mem_, work2_) < 0) return -1;
     const double* weight = N_VGetArrayPointer(work_);
     const double* error = N_VGetArrayPointer(work2_);
     int best = -1;
@@ -219,7 +219,11 @@ class IdaIntegrator final : public Integrator {
     for (int k = 0; k < static_cast<int>(error_test_steps_.size()); ++k)
       if (error_test_mask_[k] > 0)
         if (const double e = std::abs(error[k] * weight[k]); e > largest) largest = e, best = k;
-    if (best >= 0) ++error_test_steps_[best];
+    return best;
+  }
+  /// IntegratorStatistics::error_test_steps: the step just taken counts for its largest weighted error.
+  void count_error_test_holder() {
+    if (const int k = largest_weighted_error(); k >= 0) ++error_test_steps_[k];
   }
 
   /// IDA's counters, which IDAReInit resets.
@@ -278,13 +282,7 @@ class IdaIntegrator final : public Integrator {
     double t_now = t_;
     IDAGetCurrentTime(mem_, &t_now);
     std::string culprit;
-    if (IDAGetErrWeights(mem_, work_) >= 0 && IDAGetEstLocalErrors(mem_, work2_) >= 0) {
-      const Eigen::VectorXd e =
-          view(work2_).cwiseProduct(view(work_)).cwiseAbs().cwiseProduct(error_test_mask_);
-      Eigen::Index k = 0;
-      e.maxCoeff(&k);
-      culprit = model_.explain_state(static_cast<int>(k));
-    }
+    if (const int k = largest_weighted_error(); k >= 0) culprit = model_.explain_state(k);
     std::ostringstream msg;
     // The name is malloc'd by SUNDIALS (IDAGetReturnFlagName): freed here, it leaked on every failure.
     char* name = IDAGetReturnFlagName(flag);

@@ -70,7 +70,8 @@ struct IntegratorStatistics {
   std::array<long, 5> steps_at_order{};
   // IDA and the split integrator's groups: per unknown of y, the accepted steps in which it had the largest
   // weighted local error estimate of the error test - the unknown that set the step size there. Empty where
-  // not counted (generalized-alpha). Results: /solver/error_test_steps; the log names the leading ones.
+  // not counted (generalized-alpha). Results: /solver/statistics/error_test_steps; the log names the leading
+  // ones.
   std::vector<long> error_test_steps;
   // wall-clock seconds (steady_clock) in the residual, the Jacobian and the rest (results: wall_*_s)
   double cpu_residual_s = 0, cpu_jacobian_s = 0, cpu_factorization_s = 0;

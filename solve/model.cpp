@@ -242,14 +242,17 @@ Eigen::VectorXd Model::velocity_tolerance_mask() const {
   return m;
 }
 
+int Model::body_of_state(int k) const {
+  for (std::size_t b = 0; b < bodies.size(); ++b)
+    if (k >= body_offset_[b] && k < body_offset_[b] + bodies[b]->state_count()) return static_cast<int>(b);
+  return -1;
+}
+
 std::string Model::describe_state(int k) const {
-  for (std::size_t b = 0; b < bodies.size(); ++b) {
-    const int o = body_offset_[b], nq = bodies[b]->position_count();
-    if (k >= o && k < o + bodies[b]->state_count()) {
-      const int r = k - o;
-      return "body '" + bodies[b]->name() + "' " +
-             (r < nq ? "q[" + std::to_string(r) + "]" : "w[" + std::to_string(r - nq) + "]");
-    }
+  if (const int b = body_of_state(k); b >= 0) {
+    const int r = k - body_offset_[b], nq = bodies[b]->position_count();
+    return "body '" + bodies[b]->name() + "' " +
+           (r < nq ? "q[" + std::to_string(r) + "]" : "w[" + std::to_string(r - nq) + "]");
   }
   if (k == clock_index_) return "clock angle";
   for (const auto& f : forces)
@@ -271,14 +274,9 @@ std::string Model::describe_state(int k) const {
 
 std::string Model::explain_state(int k) const {
   std::string words = describe_state(k);
-  for (std::size_t b = 0; b < bodies.size(); ++b) {
-    const int o = body_offset_[b];
-    if (k >= o && k < o + bodies[b]->state_count()) {
-      const std::string meaning = bodies[b]->state_meaning(k - o);
-      if (!meaning.empty()) words += " (" + meaning + ")";
-      break;
-    }
-  }
+  if (const int b = body_of_state(k); b >= 0)
+    if (const std::string meaning = bodies[b]->state_meaning(k - body_offset_[b]); !meaning.empty())
+      words += " (" + meaning + ")";
   return words;
 }
 

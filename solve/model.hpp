@@ -176,6 +176,8 @@ class Model {
   void constraint_matrix(double t, const double* y, Eigen::MatrixXd& c, Eigen::VectorXd& phi,
                          Eigen::VectorXd& phi_t) const;  // all equations, dense (start-up only)
   int velocity_offset(int b) const { return body_offset_[b] + bodies[b]->position_count(); }
+  /// The body whose states hold unknown k (its q, w or multipliers), -1 if none.
+  int body_of_state(int k) const;
   /// Wrenches (and state rows) of element f at (t, y, y'), into the workspace.
   void evaluate_element(std::size_t f, double t, const double* y, const double* yp, double* state_rows) const;
   /// Powers (W) of the element wrenches: dissipated, and the input of sources.

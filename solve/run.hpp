@@ -32,8 +32,8 @@ struct RunSummary {
 };
 
 /// The unknowns that held the integrator's error test in most accepted steps (IntegratorStatistics::
-/// error_test_steps), the `leading` first, each with its share of the steps: "body 'valve' w[0] (velocity
-/// y) 61 %, ...". Empty if nothing was counted.
+/// error_test_steps), the `leading` first, each with its share of the steps: "body 'valve' w[0] (speed
+/// s') 73 %, ...". Empty if nothing was counted.
 std::string error_test_holders(const Model& model, const std::vector<long>& steps, int leading = 3);
 
 /// Integrate `scene` and write the results file. Throws nvh::Error on a failed run after marking the file
