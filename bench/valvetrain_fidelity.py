@@ -33,6 +33,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import h5py
 import numpy as np
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -206,11 +207,13 @@ def main() -> int:
             cpu = run(args.build / "solve/solve", scene, results)
             k = valvetrain_report.kpis(results)
             ref = ref or k
-            row = {"cam_rpm": rpm, "variant": name, "part": part, "cpu_per_rev_s": cpu / 2.0,
+            with h5py.File(results, "r") as r:  # the revolutions simulated (the scenes run 760 cam deg)
+                revolutions = float(r["time"][-1] - r["time"][0]) / rev_s
+            row = {"cam_rpm": rpm, "variant": name, "part": part, "cpu_per_rev_s": cpu / revolutions,
                    **{key: k[key] for key, _, _, _ in KPIS},
                    **{"d_" + key: change(k, ref, key, floor) for key, _, _, floor in KPIS}}
             rows.append(row)
-            say(f"{name:52s} {cpu / 2:7.3f} " + " ".join(
+            say(f"{name:52s} {cpu / revolutions:7.3f} " + " ".join(
                 f"{k[key]:9.4g}" for key, _, _, _ in KPIS))
             if k is not ref:
                 say(f"{'':52s} {'':7s} " + " ".join(
