@@ -78,7 +78,7 @@ def kpis(results: Path, valve: str, seat: str, spring: str) -> dict:
             held = f"{name.decode() if isinstance(name, bytes) else name} {100 * counts[k_top] / max(1, counts.sum()):.0f} %"
         return {"lift_mm": k["lift_mm"], "fcam_max": k["cam_force_max"], "fcam_min": k["cam_force_min"],
                 "v_seat": k["seating_speed"], "cpu": float(st["wall_s"]), "steps": int(st["steps"]),
-                "simulated_s": float(r["time"][-1] - r["time"][0]),
+                "revolutions": valvetrain_report.revolutions_simulated(r),
                 "steps_set_by": held}
 
 
@@ -124,7 +124,7 @@ def main() -> int:
             if ref is None:
                 ref = k
             err = max(abs(k[q] - ref[q]) / abs(ref[q]) for q in ("lift_mm", "fcam_max", "fcam_min", "v_seat"))
-            cpu_rev = k["cpu"] / (k["simulated_s"] / rev_s)  # per revolution simulated
+            cpu_rev = k["cpu"] / k["revolutions"]
             rows.append({"scene": scene, "setting": label, "steps": k["steps"], "cpu_per_rev_s": cpu_rev,
                          "real_time_ratio": cpu_rev / rev_s, "max_kpi_error": err, **k})
             print(f"{label:30s} {k['steps']:7d} {cpu_rev:9.3f} {cpu_rev / rev_s:7.1f} {k['lift_mm']:8.3f} "

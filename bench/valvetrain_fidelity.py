@@ -207,8 +207,8 @@ def main() -> int:
             cpu = run(args.build / "solve/solve", scene, results)
             k = valvetrain_report.kpis(results)
             ref = ref or k
-            with h5py.File(results, "r") as r:  # the revolutions simulated (the scenes run 760 cam deg)
-                revolutions = float(r["time"][-1] - r["time"][0]) / rev_s
+            with h5py.File(results, "r") as r:  # the scenes run 760 cam deg
+                revolutions = valvetrain_report.revolutions_simulated(r)
             row = {"cam_rpm": rpm, "variant": name, "part": part, "cpu_per_rev_s": cpu / revolutions,
                    **{key: k[key] for key, _, _, _ in KPIS},
                    **{"d_" + key: change(k, ref, key, floor) for key, _, _, floor in KPIS}}

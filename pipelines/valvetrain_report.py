@@ -88,6 +88,12 @@ def last_revolution(r) -> tuple:
     return last, angle[last] - (stop - 360.0)
 
 
+def revolutions_simulated(r) -> float:
+    """Cam revolutions a results file spans (its cam angle's range / 360): the benches' CPU per revolution."""
+    angle = r["crank_angle_deg"]
+    return float(angle[-1] - angle[0]) / 360.0
+
+
 def kinematic(files: list, lash: float) -> dict:
     """The kinematic model from runs at two speeds (module docstring): lift against cam angle, the separation
     speed of the rigid chain (engine rpm) and the cam angle where it starts."""
