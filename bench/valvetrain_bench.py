@@ -152,7 +152,7 @@ def main() -> int:
         import matplotlib
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
-        fig, ax = plt.subplots(figsize=(8, 5.5))
+        fig, ax = plt.subplots(figsize=(10.5, 5.5))
         for scene, marker in zip(SCENES, "os^D"):
             for method, color in (("IDA", "C0"), ("g-alpha", "C1")):
                 pts = [(r["max_kpi_error"], r["cpu_per_rev_s"], r["setting"]) for r in rows
@@ -174,7 +174,7 @@ def main() -> int:
         ax.set_ylabel("CPU per cam revolution [s] (one core)")
         ax.set_title(f"valvetrain work-precision, {args.cam_rpm:.0f} cam rpm")
         ax.grid(True, which="both", lw=0.3)
-        ax.legend(fontsize=8)
+        ax.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.01, 0.5))  # outside: no point hidden
         fig.tight_layout()
         fig.savefig(args.out / "work_precision.png", dpi=110)
         print(f"\nwrote {args.out / 'work_precision.png'}, {args.out / 'valvetrain_bench.csv'}")
