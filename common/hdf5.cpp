@@ -1086,6 +1086,14 @@ void AppendableDataset::truncate(hsize_t rows) {
   rows_ = rows;
 }
 
+void AppendableDataset::set_attribute(std::string_view attr, const std::string& value) {
+  if (!dataset_.valid())
+    throw Error("set_attribute() on an AppendableDataset not made by Group::create_appendable");
+  const Handle type = vlen_string_type();
+  const char* pointer = value.c_str();
+  write_attribute(dataset_.get(), ".", attr, path_, type.get(), type.get(), {}, &pointer);
+}
+
 void AppendableDataset::flush() {
   if (!dataset_.valid()) throw Error("flush() on an AppendableDataset not made by Group::create_appendable");
   check_status(H5Dflush(dataset_.get()), path_, "cannot write the appended rows to disk");

@@ -113,7 +113,7 @@ ResultsWriter ResultsWriter::create(const std::filesystem::path& path, const Sce
                                   scene.output.compression};  // gzip level ([output] compression)
       auto ds = sig.columns == 0 ? root.create_appendable_vector(sig.path, chunking)
                                  : root.create_appendable(sig.path, sig.columns, chunking);
-      root.set_attribute("unit", sig.unit, sig.path);
+      ds.set_attribute("unit", sig.unit);
     }
     if (!scene.marker_names.empty()) root.set_attribute("axes", "global", "markers");
     h5::Group cp = root.create_group("checkpoint");
@@ -170,6 +170,8 @@ void ResultsWriter::open_datasets(const Scene& scene) {
   channels_.clear();
   for (const auto& sig : signals_of(scene))
     channels_.push_back(Channel{root.open_appendable(sig.path), {}, sig.path, std::max(1, sig.columns)});
+  channel_counts_.clear();
+  for (const auto& f : scene.model.forces) channel_counts_.push_back(f.element->channels().size());
   if (root.has_attribute("reference", "energy")) energy_reference_ = root.double_attribute("reference", "energy");
 }
 
@@ -234,7 +236,8 @@ void ResultsWriter::add_sample(double t, const Scene& scene, const Eigen::Vector
     }
   if (scene.output.forces) {
     std::vector<MarkerMotion>& markers = motions_;
-    for (const auto& f : m.forces) {
+    for (std::size_t fi = 0; fi < m.forces.size(); ++fi) {
+      const ForceEntry& f = m.forces[fi];
       const ElementInput in = m.element_input(f, t, y.data(), yp.data(), markers);
       wrenches_.assign(f.markers.size(), Wrench{});
       state_rows_.assign(f.state_count, 0.0);
@@ -248,7 +251,7 @@ void ResultsWriter::add_sample(double t, const Scene& scene, const Eigen::Vector
       }
       put(total.force);
       put(total.torque);
-      values_.assign(f.element->channels().size(), 0.0);
+      values_.assign(channel_counts_[fi], 0.0);
       f.element->channel_values(in, values_);
       for (double v : values_) put1(v);
       for (double z : in.z) put1(z);

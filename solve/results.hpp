@@ -86,6 +86,8 @@ class ResultsWriter {
   std::vector<MarkerMotion> motions_;
   std::vector<Wrench> wrenches_;
   std::vector<double> state_rows_, values_;
+  std::vector<std::size_t>
+      channel_counts_;  // per force element: its channels (channels() builds their names)
   long samples_ = 0;
   long written_ = 0;  // samples on disk
 };

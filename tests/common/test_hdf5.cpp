@@ -362,6 +362,28 @@ TEST_F(Hdf5Test, AppendableVectorGrowsTruncatesAndReopens) {
   EXPECT_EQ(in.root().read_vector("time", 4), (Eigen::VectorXd(4) << 0.0, 0.1, 0.2, 0.35).finished());
 }
 
+TEST_F(Hdf5Test, AppendableDatasetCarriesItsOwnAttribute) {
+  // solve's time histories get their unit through the open handle (no path lookup); setting it again replaces
+  // it.
+  const fs::path path = file("unit.h5");
+  {
+    File out = File::create(path);
+    AppendableDataset v = out.root().create_appendable("markers/a/velocity", 3);
+    v.set_attribute("unit", "m");
+    v.set_attribute("unit", "m/s");
+    AppendableDataset t = out.root().create_appendable_vector("time");
+    t.set_attribute("unit", "s");
+    out.commit();
+  }
+  File in = File::open_read(path);
+  EXPECT_EQ(in.root().string_attribute("unit", "markers/a/velocity"), "m/s");
+  EXPECT_EQ(in.root().string_attribute("unit", "time"), "s");
+  EXPECT_NE(error_of([] {
+              AppendableDataset().set_attribute("unit", "m");
+            }).find("not made by Group::create_appendable"),
+            std::string::npos);
+}
+
 TEST_F(Hdf5Test, Attributes) {
   const fs::path path = file("attributes.h5");
   {
