@@ -58,6 +58,20 @@ void Body::marker_twist(int marker, std::span<const double> q, std::span<const d
   angular_velocity = j.jw * wv;
 }
 
+Vec3 Body::marker_acceleration(int marker, std::span<const double> q, std::span<const double> w,
+                               std::span<const double> wdot) const {
+  const int nq = position_count(), nw = velocity_count();
+  const Eigen::Map<const Eigen::VectorXd> wv(w.data(), nw), wd(wdot.data(), nw);
+  const MarkerJacobian j0 = marker_jacobian(marker, q);
+  const Eigen::VectorXd qd = position_rates(q, w);
+  const double h = 1e-6;
+  const Eigen::VectorXd qp = Eigen::Map<const Eigen::VectorXd>(q.data(), nq) + h * qd;
+  const Eigen::VectorXd qm = Eigen::Map<const Eigen::VectorXd>(q.data(), nq) - h * qd;
+  const MarkerJacobian jp = marker_jacobian(marker, {qp.data(), std::size_t(nq)});
+  const MarkerJacobian jm = marker_jacobian(marker, {qm.data(), std::size_t(nq)});
+  return j0.jv * wd + (jp.jv - jm.jv) * wv / (2 * h);
+}
+
 void Body::marker_sensitivity(int marker, std::span<const double> q, std::span<const double> w,
                               Eigen::Ref<Eigen::MatrixXd> out) const {
   std::vector<double> qq(q.begin(), q.end());
@@ -191,6 +205,14 @@ MarkerMotion RigidBody::marker_motion(int marker, std::span<const double> q,
   const Vec3 s = a * m.position;
   const Vec3 omega = a * vec3(w, 3);
   return {vec3(q, 0) + s, a * m.axes, vec3(w, 0) + omega.cross(s), omega};
+}
+
+// a_P = v' + A (omega_b' x s + omega_b x (omega_b x s)): v' global, omega_b and its rate in body axes.
+Vec3 RigidBody::marker_acceleration(int marker, std::span<const double> q, std::span<const double> w,
+                                    std::span<const double> wdot) const {
+  const Vec3& s = markers()[marker].position;
+  const Vec3 omega = vec3(w, 3);
+  return vec3(wdot, 0) + rotation_matrix(vec4(q, 3)) * (vec3(wdot, 3).cross(s) + omega.cross(omega.cross(s)));
 }
 
 // v_P = v + A (omega_b x s) = v - A s~ omega_b;  omega_P = A omega_b.

@@ -121,6 +121,11 @@ class Body {
   /// (C w = D [Jv w; Jw w]; equal to marker_motion's on |p| = 1). Default: from marker_jacobian.
   virtual void marker_twist(int marker, std::span<const double> q, std::span<const double> w, Vec3& velocity,
                             Vec3& angular_velocity) const;
+  /// The marker's acceleration (global, m/s^2) from the velocities w and their rates w' (output). Default:
+  /// Jv w' + (dJv/dt) w, the second term by a central difference of Jv along q' = H w; the slider and the
+  /// rotor give their closed forms.
+  virtual Vec3 marker_acceleration(int marker, std::span<const double> q, std::span<const double> w,
+                                   std::span<const double> wdot) const;
 
   /// Position of the body reference point and its rotation (output; identity where not defined).
   virtual Vec3 reference_position(std::span<const double> q) const = 0;
@@ -236,6 +241,8 @@ class RigidBody final : public Body {
                   std::span<double> generalized) const override;
   void marker_twist(int marker, std::span<const double> q, std::span<const double> w, Vec3& velocity,
                     Vec3& angular_velocity) const override;
+  Vec3 marker_acceleration(int marker, std::span<const double> q, std::span<const double> w,
+                           std::span<const double> wdot) const override;
   void marker_sensitivity(int marker, std::span<const double> q, std::span<const double> w,
                           Eigen::Ref<Eigen::MatrixXd> out) const override;
   void add_wrench_derivative(int marker, std::span<const double> q, const Vec3& force, const Vec3& torque,

@@ -52,6 +52,12 @@ void SliderBody::marker_twist(int, std::span<const double>, std::span<const doub
   angular_velocity.setZero();
 }
 
+// s'' a: every point of the slider moves along the axis.
+Vec3 SliderBody::marker_acceleration(int, std::span<const double>, std::span<const double>,
+                                     std::span<const double> wdot) const {
+  return wdot[0] * axis_;
+}
+
 Vec3 SliderBody::reference_position(std::span<const double> q) const {
   return init_.position + q[0] * axis_;
 }
@@ -139,6 +145,13 @@ void RotorBody::marker_twist(int marker, std::span<const double> q, std::span<co
                              Vec3& angular_velocity) const {
   angular_velocity = w[0] * axis_;
   velocity = angular_velocity.cross(turn(q[0]) * offset0(marker));
+}
+
+// theta'' a x d + theta'^2 a x (a x d): tangential and centripetal, d = R(theta) d0 from the axis.
+Vec3 RotorBody::marker_acceleration(int marker, std::span<const double> q, std::span<const double> w,
+                                    std::span<const double> wdot) const {
+  const Vec3 ad = axis_.cross(turn(q[0]) * offset0(marker));
+  return wdot[0] * ad + w[0] * w[0] * axis_.cross(ad);
 }
 
 Vec3 RotorBody::reference_position(std::span<const double> q) const {

@@ -379,6 +379,18 @@ MarkerMotion FlexibleBody::marker_motion(int marker, std::span<const double> q,
   return mm;
 }
 
+// The rate of marker_motion's velocity (A' = A omega~, s' = Phi eta'):
+// a = v' + A (omega' x s + omega x (omega x s) + 2 omega x Phi eta' + Phi eta'').
+Vec3 FlexibleBody::marker_acceleration(int marker, std::span<const double> q, std::span<const double> w,
+                                       std::span<const double> wdot) const {
+  const auto& pt = data_.points[point_of(marker)];
+  const Vec3 s = pt.position + pt.translation * tail(q, 7, n_);
+  const Vec3 omega = vec3(w, 3), elastic_rate = pt.translation * tail(w, 6, n_);
+  const Vec3 relative = vec3(wdot, 3).cross(s) + omega.cross(omega.cross(s)) + 2 * omega.cross(elastic_rate) +
+                        pt.translation * tail(wdot, 6, n_);
+  return vec3(wdot, 0) + rotation_matrix(vec4(q, 3)) * relative;
+}
+
 // [Jv w; Jw w] = marker_motion's velocity and angular velocity (both written as A (...)), without forming Jv,
 // Jw.
 void FlexibleBody::marker_twist(int marker, std::span<const double> q, std::span<const double> w,

@@ -93,6 +93,8 @@ class FlexibleBody final : public Body {
                        Eigen::Ref<Mat3X> jw) const override;
   void marker_twist(int marker, std::span<const double> q, std::span<const double> w, Vec3& velocity,
                     Vec3& angular_velocity) const override;
+  Vec3 marker_acceleration(int marker, std::span<const double> q, std::span<const double> w,
+                           std::span<const double> wdot) const override;
   Vec3 reference_position(std::span<const double> q) const override;
   Mat3 rotation(std::span<const double> q) const override;
   double kinetic_energy(std::span<const double> q, std::span<const double> w) const override;

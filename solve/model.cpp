@@ -1142,20 +1142,10 @@ SparsityPattern Model::jacobian_pattern() const {
 // ---------------------------------------------------------------- output
 Vec3 Model::marker_acceleration(const MarkerRef& m, const double* y, const double* yp) const {
   const auto& body = *bodies[m.body];
-  const int nq = body.position_count(), nw = body.velocity_count();
+  const int nw = body.velocity_count();
   if (nw == 0) return Vec3::Zero();
-  const auto q = positions(m.body, y);
-  const auto w = velocities(m.body, y);
-  const Eigen::Map<const Eigen::VectorXd> wv(w.data(), nw), wdot(yp + velocity_offset(m.body), nw);
-  const MarkerJacobian j0 = body.marker_jacobian(m.marker, q);
-  // d(Jv)/dt w by a central difference along q' = H w
-  const Eigen::VectorXd qd = body.position_rates(q, w);
-  const double h = 1e-6;
-  Eigen::VectorXd qp = Eigen::Map<const Eigen::VectorXd>(q.data(), nq) + h * qd;
-  Eigen::VectorXd qm = Eigen::Map<const Eigen::VectorXd>(q.data(), nq) - h * qd;
-  const MarkerJacobian jp = body.marker_jacobian(m.marker, {qp.data(), std::size_t(nq)});
-  const MarkerJacobian jm = body.marker_jacobian(m.marker, {qm.data(), std::size_t(nq)});
-  return j0.jv * wdot + (jp.jv - jm.jv) * wv / (2 * h);
+  return body.marker_acceleration(m.marker, positions(m.body, y), velocities(m.body, y),
+                                  {yp + velocity_offset(m.body), std::size_t(nw)});
 }
 
 void Model::reaction(int ci, double t, const double* y, Vec3& force, Vec3& torque) const {

@@ -370,6 +370,49 @@ TEST(FlexibleBody, SpinningBarStretchesByTheCentrifugalForce) {
   fs::remove_all(dir);
 }
 
+// A marker's acceleration (the results' markers/<name>/acceleration) is the rate of its velocity: against a
+// central difference of marker_motion's velocity along q' = H w and w' (independent of the marker Jacobian
+// that the bodies' closed forms use), at a state with a rotation, elastic coordinates and rates: the flexible
+// body, a rigid body and a point mass (Body's default, the central difference of Jv along q').
+TEST(FlexibleBody, MarkerAccelerationIsTheRateOfItsVelocity) {
+  const fs::path dir = temp_dir("acceleration");
+  write_beam(dir / "beam.h5", condense::ReductionMethod::kModal, true, 0.0, 6);
+  const std::string flexible = floating_scene("type = \"flexible\"\nsuperelement = \"beam.h5\"", Vec3::Zero(),
+                                              Vec3::Zero(), Vec3::Zero(), 1, "ida");
+  const std::string rigid =
+      "[[body]]\nname = \"beam\"\ntype = \"rigid\"\nmass = 2\ninertia = [0.01, 0.2, 0.2]\n"
+      "  [[body.marker]]\n  name = \"b\"\n  at = [0.4, 0.02, -0.01]\n[clock]\nend_time = 1\n";
+  const std::string point =
+      "[[body]]\nname = \"beam\"\ntype = \"point-mass\"\nmass = 2\n  [[body.marker]]\n  name = \"b\"\n"
+      "[clock]\nend_time = 1\n";  // Body's default (the difference of Jv)
+  for (const std::string& text : {flexible, rigid, point}) {
+    Scene scene = parse_scene(text, "acceleration.toml", dir);
+    const Body& body = *scene.model.bodies[0];
+    const int nq = body.position_count(), nw = body.velocity_count();
+    std::srand(7);
+    auto random = [] { return 2.0 * std::rand() / RAND_MAX - 1; };
+    Eigen::VectorXd q = body.initial_positions(), w(nw), wdot(nw);
+    if (nq >= 7) q.segment<4>(3) = Eigen::Vector4d(0.8, 0.3, -0.4, 0.2).normalized();
+    for (int k = 7; k < nq; ++k) q[k] = 1e-4 * random();  // elastic coordinates
+    for (int k = 0; k < nw; ++k) w[k] = 3 * random(), wdot[k] = 50 * random();
+    const int marker = body.find_marker("b");
+    const Vec3 a = body.marker_acceleration(marker, {q.data(), std::size_t(nq)}, {w.data(), std::size_t(nw)},
+                                            {wdot.data(), std::size_t(nw)});
+    const Eigen::VectorXd qdot =
+        body.position_rates({q.data(), std::size_t(nq)}, {w.data(), std::size_t(nw)});
+    const double h = 1e-5;
+    auto velocity = [&](double sign) {
+      const Eigen::VectorXd qs = q + sign * h * qdot, ws = w + sign * h * wdot;
+      return body.marker_motion(marker, {qs.data(), std::size_t(nq)}, {ws.data(), std::size_t(nw)}).velocity;
+    };
+    const Vec3 expected = (velocity(1) - velocity(-1)) / (2 * h);
+    std::printf("  %s: marker acceleration %.6f m/s^2, rate of its velocity %.6f (difference %.1e)\n",
+                body.kind().c_str(), a.norm(), expected.norm(), (a - expected).norm());
+    EXPECT_LT((a - expected).norm(), 1e-6 * expected.norm()) << body.kind();  // the difference's h^2 error
+  }
+  fs::remove_all(dir);
+}
+
 // ---------------------------------------------------------------- 3. bad input
 std::string error_of(const std::string& body, const fs::path& dir) {
   const std::string text =
