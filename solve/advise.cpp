@@ -9,6 +9,7 @@
 
 #include "common/error.hpp"
 #include "solve/flexible_body.hpp"
+#include "solve/flexible_rotor_body.hpp"
 #include "solve/split_integrator.hpp"
 #include "solve/stability.hpp"
 
@@ -241,7 +242,8 @@ Advice advise(Scene& scene, const AdviceOptions& options, const Logger& log) {
 
   // Flexible bodies.
   for (const auto& body : model.bodies) {
-    const auto* flex = dynamic_cast<const FlexibleBody*>(body.get());
+    const auto* rotor = dynamic_cast<const FlexibleRotorBody*>(body.get());
+    const auto* flex = rotor ? &rotor->frame() : dynamic_cast<const FlexibleBody*>(body.get());
     if (!flex) continue;
     FlexibleAdvice f;
     f.body = flex->name();

@@ -97,8 +97,8 @@ class Body {
     return m;
   }
 
-  /// Markers.
-  int add_marker(MarkerDefinition m) {
+  /// Markers. Virtual for bodies that keep a second body's markers in step (flexible_rotor_body.hpp).
+  virtual int add_marker(MarkerDefinition m) {
     markers_.push_back(std::move(m));
     return static_cast<int>(markers_.size()) - 1;
   }

@@ -19,6 +19,8 @@
 //   h_eta_j = sum_ab (omega~ omega~)_ab P_ba,j + 2 sum_ab omega~_ab (S_ab eta')_j.
 // Gravity: Q_g = [m g; (m c + S_bar eta) x A^T g; S_bar^T A^T g].
 #include "solve/flexible_body.hpp"
+#include "solve/element_registry.hpp"
+#include "solve/flexible_rotor_body.hpp"
 
 #include <cmath>
 #include <sstream>
@@ -135,6 +137,7 @@ FlexibleData load_flexible_data(const std::filesystem::path& file, int modes) {
   d.file = file;
   d.coordinates_in_file = available;
   d.static_correction = se.static_correction;
+  d.rigid_body_modes = se.rigid_body_modes_removed + se.rigid_body_modes_contained;
   d.mass = se.inertia.mass;
   d.first_moment = se.inertia.mass * se.inertia.center_of_mass;
   d.second_moment = se.inertia.second_moment;
@@ -793,8 +796,30 @@ std::unique_ptr<Body> make_flexible_body(const input::Table& t, const std::strin
     }
     user_points.push_back(found);
   }
-  return std::make_unique<FlexibleBody>(name, std::move(data), coupling, init, eta0, eta_rate0,
-                                        std::move(user_points));
+  if (!t.has("axis")) {
+    for (const char* key : {"speed"})
+      if (t.has(key)) t.fail(key, "only a flexible body on a fixed axis (`axis`) takes an initial `speed`");
+    return std::make_unique<FlexibleBody>(name, std::move(data), coupling, init, eta0, eta_rate0,
+                                          std::move(user_points));
+  }
+  // On a fixed axis through the frame's origin (flexible_rotor_body.hpp): one coordinate for the frame.
+  for (const char* key : {"velocity", "angular_velocity"})
+    if (t.has(key))
+      t.fail(key,
+             "a flexible body on a fixed axis turns about it only: give its initial rate as `speed` (rad/s "
+             "about the axis, right-handed)");
+  const auto a = t.vec3("axis", input::Range::magnitude(bounds::kLength));
+  const Vec3 axis(a[0], a[1], a[2]);
+  if (axis.norm() < 1e-12) t.fail("axis", "the axis must not be zero");
+  const double speed = t.number_or("speed", 0.0, input::Range::magnitude(bounds::kAngularSpeed));
+  if (const std::string problem = fixed_axis_basis_problem(data, file.string()); !problem.empty())
+    t.fail("superelement", "cannot turn on a fixed axis: " + problem);
+  InitialState at_rest = init;
+  at_rest.velocity.setZero();
+  at_rest.angular_velocity.setZero();
+  return std::make_unique<FlexibleRotorBody>(
+      FlexibleBody(name, std::move(data), coupling, at_rest, eta0, eta_rate0, std::move(user_points)), axis,
+      speed);
 }
 
 }  // namespace nvh::solve

@@ -7,6 +7,7 @@
 
 #include "common/error.hpp"
 #include "solve/fixed_axis_body.hpp"
+#include "solve/flexible_rotor_body.hpp"
 
 namespace nvh::solve {
 namespace {
@@ -34,13 +35,20 @@ std::vector<Signal> signals_of(const Scene& s) {
       if (b->velocity_count() == 0) continue;
       out.push_back({"bodies/" + b->name() + "/position", 3, "m"});
       out.push_back({"bodies/" + b->name() + "/velocity", 3, "m/s"});
-      if (b->kind() == "rigid" || b->kind() == "flexible") {
+      if (b->kind() == "rigid" || b->kind() == "flexible" || b->kind() == "flexible-rotor") {
         out.push_back({"bodies/" + b->name() + "/euler_parameters", 4, "1"});
         out.push_back({"bodies/" + b->name() + "/angular_velocity", 3, "rad/s"});
       }
-      if (b->kind() == "flexible") {  // the elastic coordinates and their rates (units of the superelement)
-        out.push_back({"bodies/" + b->name() + "/modal_coordinates", b->position_count() - 7, "superelement coordinates"});
-        out.push_back({"bodies/" + b->name() + "/modal_velocities", b->position_count() - 7, "superelement coordinates / s"});
+      if (b->kind() == "flexible" || b->kind() == "flexible-rotor") {  // the elastic coordinates and their
+        const int n = b->kind() == "flexible" ? b->position_count() - 7 : b->position_count() - 1;  // rates
+        out.push_back({"bodies/" + b->name() + "/modal_coordinates", n, "superelement coordinates"});
+        out.push_back({"bodies/" + b->name() + "/modal_velocities", n, "superelement coordinates / s"});
+      }
+      if (b->kind() == "flexible-rotor") {  // its angle and the support
+        out.push_back({"bodies/" + b->name() + "/coordinate", 0, "rad"});
+        out.push_back({"bodies/" + b->name() + "/coordinate_rate", 0, "rad/s"});
+        out.push_back({"bodies/" + b->name() + "/support_force", 3, "N"});
+        out.push_back({"bodies/" + b->name() + "/support_torque", 3, "N m"});
       }
       if (dynamic_cast<const FixedAxisBody*>(b.get()) != nullptr) {  // its coordinate and the support
         const bool rotor = b->kind() == "rotor";
@@ -219,6 +227,25 @@ void ResultsWriter::add_sample(double t, const Scene& scene, const Eigen::Vector
         m.applied_wrench(bi, t, y.data(), yp.data(), reference, force, torque);
         const std::span<const double> wdot(yp.data() + m.body_offset(bi) + body.position_count(), 1);
         const SupportWrench s = fixed->support_wrench(q, w, wdot, m.gravity, force, torque);
+        put(s.force);
+        put(s.torque);
+        continue;
+      }
+      if (const auto* rotor = dynamic_cast<const FlexibleRotorBody*>(&body)) {
+        const Eigen::Index n = rotor->modes();
+        put(Vec3::Zero());  // the pivot's velocity
+        put(rotor->euler_parameters(q[0]));
+        put(Vec3(w[0] * rotor->axis()));
+        put(Eigen::Map<const Eigen::VectorXd>(q.data() + 1, n));
+        put(Eigen::Map<const Eigen::VectorXd>(w.data() + 1, n));
+        put1(q[0]);
+        put1(w[0]);
+        const int bi = static_cast<int>(b);
+        Vec3 force, torque;  // about the pivot, the reference point
+        m.applied_wrench(bi, t, y.data(), yp.data(), reference, force, torque);
+        const std::span<const double> wdot(yp.data() + m.body_offset(bi) + body.position_count(),
+                                           body.velocity_count());
+        const SupportWrench s = rotor->support_wrench(q, w, wdot, m.gravity, force, torque);
         put(s.force);
         put(s.torque);
         continue;

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "common/input.hpp"
+#include "solve/flexible_rotor_body.hpp"
 #include "solve/cam/cam_joint.hpp"
 #include "solve/cam/cam_profile.hpp"
 #include "solve/element_registry.hpp"
@@ -177,7 +178,8 @@ class SceneReader {
 
       // Fewer coordinates than a file with static correction holds drop that correction (its vectors lie
       // above the band, or are mixed into the orthonormalized modes): allowed, but say so.
-      const FlexibleData& d = static_cast<const FlexibleBody&>(*body).data();
+      const auto* rotor = dynamic_cast<const FlexibleRotorBody*>(body.get());
+      const FlexibleData& d = rotor ? rotor->frame().data() : static_cast<const FlexibleBody&>(*body).data();
       if (d.static_correction > 0 && d.size() < d.coordinates_in_file) {
         const SourceLocation at = t.location("modes");
         s_.warnings.push_back(

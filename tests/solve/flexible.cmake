@@ -10,3 +10,6 @@ nvh_add_test(flexible_rocker_tests SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_flexib
 nvh_add_test(geometric_stiffening_tests SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_geometric_stiffening.cpp
   ${CMAKE_CURRENT_LIST_DIR}/test_kane_spinup.cpp
   LIBS nvh_solve nvh_condense)
+# A flexible body on a fixed axis (`axis`): the pinned-free rod against Blevins, the Jacobian, the same
+# pendulum on a revolute joint, the errors.
+nvh_add_test(flexible_rotor_tests SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_flexible_rotor.cpp LIBS nvh_solve nvh_condense)
