@@ -7,8 +7,8 @@
 //      1.87510, 4.69409, 7.85476): f = (beta L)^2 / (2 pi L^2) sqrt(E I / (rho A));
 //   2. the model's analytic Jacobian against central differences of its residual (jacobian_check.hpp);
 //   3. a flexible pendulum (a Craig-Bampton rod falling from the horizontal): on the fixed axis and as a
-//      floating frame on a revolute joint, whose bases span the same motions, the tip's path; stiff and
-//      damped, the support's reaction against the rigid pendulum's closed form;
+//      floating frame on a revolute joint, whose bases span the same motions, the tip's path, and its energy
+//      balance; stiff and damped, the support's reaction against the rigid pendulum's closed form;
 //   4. the errors a bad scene gets.
 #include <gtest/gtest.h>
 
@@ -221,6 +221,12 @@ TEST(FlexibleRotor, PendulumFollowsTheFloatingFrameOnARevoluteJoint) {
       "the joint\n",
       path, static_cast<long>(sa.statistics.steps), static_cast<long>(sj.statistics.steps));
   EXPECT_LT(path, 2e-5);  // m, of a 1 m swing
+  // Undamped and without contacts, the energy balance closes (the rod's fall releases m g L / 2 = 12.1 J).
+  const double balance_a = testing::signal(a, "energy/balance").cwiseAbs().maxCoeff(),
+               balance_j = testing::signal(j, "energy/balance").cwiseAbs().maxCoeff();
+  std::printf("measured: energy balance at most %.2e J on the axis, %.2e J on the joint\n", balance_a,
+              balance_j);
+  EXPECT_LT(balance_a, 1e-9 * 12.1);  // J; measured 1.6e-10
   fs::remove_all(dir);
 }
 
