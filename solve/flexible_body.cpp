@@ -99,7 +99,7 @@ FlexibleData::Point read_point(const PointSet& set, std::size_t k) {
 }  // namespace
 
 // ---------------------------------------------------------------- the superelement
-FlexibleData load_flexible_data(const std::filesystem::path& file, int modes) {
+FlexibleData load_flexible_data(const std::filesystem::path& file, int modes, const std::vector<int>& numbers) {
   const SuperelementFile se = read_superelement(file);
   const std::string where = file.string();
   const int n_all = se.size();
@@ -131,6 +131,23 @@ FlexibleData load_flexible_data(const std::filesystem::path& file, int modes) {
     throw Error(where + ": " + std::to_string(modes) + " modes asked for, the superelement has " +
                 std::to_string(available) + " elastic coordinates");
   if (modes > 0) x = x.leftCols(modes).eval();
+  if (!numbers.empty()) {  // the chosen coordinates (1-based), as the file orders them
+    Eigen::MatrixXd chosen(x.rows(), static_cast<Eigen::Index>(numbers.size()));
+    Eigen::VectorXd chosen_hz(static_cast<Eigen::Index>(numbers.size()));
+    for (std::size_t k = 0; k < numbers.size(); ++k) {
+      const int j = numbers[k] - 1;
+      if (j < 0 || j >= available)
+        throw Error(where + ": mode number " + std::to_string(numbers[k]) + " asked for, the superelement has " +
+                    std::to_string(available) + " elastic coordinates");
+      if (k > 0 && numbers[k] <= numbers[k - 1])
+        throw Error(where + ": mode numbers must be distinct and ascending, got " +
+                    std::to_string(numbers[k - 1]) + " before " + std::to_string(numbers[k]));
+      chosen.col(static_cast<Eigen::Index>(k)) = x.col(j);
+      chosen_hz[static_cast<Eigen::Index>(k)] = j < hz.size() ? hz[j] : 0.0;
+    }
+    x = chosen;
+    hz = chosen_hz;
+  }
   const int n = static_cast<int>(x.cols());
 
   FlexibleData d;
@@ -733,16 +750,25 @@ std::unique_ptr<Body> make_flexible_body(const input::Table& t, const std::strin
   inputs.push_back(file);
   const int modes =
       static_cast<int>(t.optional_integer("modes", input::Range::closed(1, 100000)).value_or(0));
+  std::vector<int> numbers;  // `mode_numbers`: exactly these coordinates (Adams/Flex' enabled modes)
+  if (t.has("mode_numbers")) {
+    if (t.has("modes")) t.fail("mode_numbers", "give either `modes` (the lowest N) or `mode_numbers`, not both");
+    for (const std::int64_t k : t.integers("mode_numbers", input::Range::closed(1, 100000)))
+      numbers.push_back(static_cast<int>(k));
+    if (numbers.empty()) t.fail("mode_numbers", "expected at least one mode number (1-based)");
+  }
   const Coupling coupling = t.optional_choice("coupling", {"full", "linear"}).value_or("full") == "full"
                                 ? Coupling::kFull
                                 : Coupling::kLinear;
   FlexibleData data;
   try {
-    data = load_flexible_data(file, modes);
+    data = load_flexible_data(file, modes, numbers);
   } catch (const Error& e) {
     const std::string what = e.what();
     const bool too_many = modes > 0 && what.find("modes asked for") != std::string::npos;
-    t.fail(too_many ? "modes" : "superelement", "cannot use superelement '" + file.string() + "': " + what);
+    const bool bad_number = what.find("mode number") != std::string::npos;
+    t.fail(too_many ? "modes" : bad_number ? "mode_numbers" : "superelement",
+           "cannot use superelement '" + file.string() + "': " + what);
   }
   // The centrifugal geometric stiffness: on when the file carries it, unless switched off.
   if (const auto stiffening = t.optional_boolean("geometric_stiffening")) {

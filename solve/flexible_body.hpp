@@ -58,10 +58,12 @@ struct FlexibleData {
   int size() const { return static_cast<int>(modal_mass.rows()); }
 };
 
-/// Load a superelement file and select its lowest `modes` elastic coordinates (all if modes <= 0).
+/// Load a superelement file and select its lowest `modes` elastic coordinates (all if modes <= 0), or, with
+/// `numbers` (1-based, in the file's order of frequency, ascending and distinct), exactly those.
 /// Raw Craig-Bampton and Guyan bases (orthonormalized = 0) are first transformed to the elastic modes of
 /// (K_r, M_r), dropping the rigid-body modes they contain. Throws nvh::Error naming the file.
-FlexibleData load_flexible_data(const std::filesystem::path& file, int modes = 0);
+FlexibleData load_flexible_data(const std::filesystem::path& file, int modes = 0,
+                                const std::vector<int>& numbers = {});
 
 enum class Coupling { kFull, kLinear };
 

@@ -181,7 +181,7 @@ class SceneReader {
       const auto* rotor = dynamic_cast<const FlexibleRotorBody*>(body.get());
       const FlexibleData& d = rotor ? rotor->frame().data() : static_cast<const FlexibleBody&>(*body).data();
       if (d.static_correction > 0 && d.size() < d.coordinates_in_file) {
-        const SourceLocation at = t.location("modes");
+        const SourceLocation at = t.location(t.has("mode_numbers") ? "mode_numbers" : "modes");
         s_.warnings.push_back(
             at.file + ":" + std::to_string(at.line) + ": flexible body '" + name + "' uses " +
             std::to_string(d.size()) + " of the " + std::to_string(d.coordinates_in_file) +

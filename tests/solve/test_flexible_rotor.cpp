@@ -5,6 +5,8 @@
 //      Euler-Bernoulli frequency factors of R. D. Blevins, Formulas for Natural Frequency and Mode Shape
 //      (Van Nostrand 1979), table 8-1 (pinned-free: beta L = 3.92660, 7.06858, 10.21018; clamped-free
 //      1.87510, 4.69409, 7.85476): f = (beta L)^2 / (2 pi L^2) sqrt(E I / (rho A));
+//      with `mode_numbers`, only the in-plane modes of a rod stiffer in its plane, the same in-plane
+//      frequencies and no out-of-plane mode;
 //   2. the model's analytic Jacobian against central differences of its residual (jacobian_check.hpp);
 //   3. a flexible pendulum (a Craig-Bampton rod falling from the horizontal): on the fixed axis and as a
 //      floating frame on a revolute joint, whose bases span the same motions, the tip's path, and its energy
@@ -13,6 +15,7 @@
 #include <gtest/gtest.h>
 
 #include <unistd.h>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -51,8 +54,9 @@ fs::path temp_dir(const std::string& name) {
 /// interface "b" at the tip either way. Craig-Bampton with `modes` fixed-interface modes, or a modal
 /// reduction of `modes` modes (the clamped rod only).
 void write_rod(const fs::path& file, bool clamped, condense::ReductionMethod method, int modes,
-               double diameter = kDiameter, double damping = 0.0) {
+               double diameter = kDiameter, double damping = 0.0, double iz_factor = 1.0) {
   condense::BeamSection s = circle(diameter);
+  s.Iz *= iz_factor;  // bending in the x-y plane, the plane of rotation about z
   s.rotary_inertia = false;
   condense::Component c = straight_beam(kLength, s, 32, Steel{});
   c.interfaces = {point("b", {kLength, 0, 0})};
@@ -123,6 +127,49 @@ TEST(FlexibleRotor, ClampedRodOnTheAxisHasThePinnedFreeFrequencies) {
   // expanded in cantilever modes): measured 1.4e-5 at most (the third pinned-free mode).
   EXPECT_LT(worst_pinned, 5e-5);
   EXPECT_LT(worst_clamped, 1e-5);
+  fs::remove_all(dir);
+}
+
+// 1b. `mode_numbers`: the rod twice as stiff in its plane of rotation (Iz = 2 Iy, so the two planes' modes
+// separate), only its in-plane bending modes chosen by number (those whose tip moves along y): the
+// pinned-free frequencies of the in-plane stiffness stay, and no out-of-plane mode is left (the lowest,
+// clamped-free 1.875^2 with Iy, would be at 14.5 Hz).
+TEST(FlexibleRotor, ChosenModeNumbersKeepThePlaneOfRotation) {
+  const fs::path dir = temp_dir("numbers");
+  write_rod(dir / "rod.h5", true, condense::ReductionMethod::kModal, 24, kDiameter, 0.0, 2.0);
+  const FlexibleData all = load_flexible_data(dir / "rod.h5");
+  const int tip = all.points[0].name == "b" ? 0 : 1;
+  std::string numbers;
+  int chosen = 0;
+  for (int j = 0; j < all.size(); ++j) {
+    const Vec3 u = all.points[tip].translation.col(j).cwiseAbs();
+    if (u.y() > 10 * u.z() && u.y() > 10 * u.x()) numbers += (chosen++ ? ", " : "") + std::to_string(j + 1);
+  }
+  ASSERT_GE(chosen, 3);
+  Scene s =
+      parse_scene(rotor_scene("rod.h5", "[0, 0, 0]", "mode_numbers = [" + numbers + "]\n"), "rod.toml", dir);
+  ASSERT_EQ(s.model.bodies[0]->state_count(), 2 * (1 + chosen));
+  std::ostringstream sink;
+  const Logger log(sink, "test", Verbosity::kQuiet);
+  Eigen::VectorXd y, yp;
+  s.model.consistent_initial_state(0.0, y, yp, log);
+  const Linearization lin = linearize(s.model, 0.0, y, yp);
+  const double area = kPi * kDiameter * kDiameter / 4, iy = kPi * std::pow(kDiameter, 4) / 64;
+  const Steel steel;
+  const double scale = std::sqrt(steel.E * 2 * iy / (steel.rho * area)) / (2 * kPi * kLength * kLength);
+  double worst = 0;
+  for (int k = 0; k < 3; ++k) {
+    const double beta = std::array<double, 3>{3.92660231, 7.06858275, 10.21017612}[k];
+    const double f = beta * beta * scale, got = lin.modes[k].frequency_hz();
+    worst = std::max(worst, std::abs(got / f - 1));
+  }
+  const double out_of_plane = 1.87510407 * 1.87510407 * scale / std::sqrt(2.0);
+  std::printf(
+      "measured: mode numbers [%s] of 24: pinned-free frequencies within %.1e; lowest mode %.3f Hz "
+      "(the out-of-plane clamped-free %.3f Hz is gone)\n",
+      numbers.c_str(), worst, lin.modes.front().frequency_hz(), out_of_plane);
+  EXPECT_LT(worst, 1e-4);
+  EXPECT_GT(lin.modes.front().frequency_hz(), 2 * out_of_plane);
   fs::remove_all(dir);
 }
 
@@ -291,6 +338,13 @@ TEST(FlexibleRotor, BadScenesAreRefusedWithTheKey) {
       error(rotor_scene("clamped.h5", "[0, 0, 0]")
                 .replace(rotor_scene("clamped.h5", "[0, 0, 0]").find("[0, 0, 1]"), 9, "[0, 0, 0]"));
   EXPECT_NE(zero.find(".axis'"), std::string::npos) << zero;
+  const std::string both = error(rotor_scene("clamped.h5", "[0, 0, 0]", "modes = 1\nmode_numbers = [1]\n"));
+  EXPECT_NE(both.find(".mode_numbers'"), std::string::npos) << both;
+  const std::string beyond = error(rotor_scene("clamped.h5", "[0, 0, 0]", "mode_numbers = [1, 99]\n"));
+  EXPECT_NE(beyond.find(".mode_numbers'"), std::string::npos) << beyond;
+  EXPECT_NE(beyond.find("99"), std::string::npos) << beyond;
+  const std::string order = error(rotor_scene("clamped.h5", "[0, 0, 0]", "mode_numbers = [2, 1]\n"));
+  EXPECT_NE(order.find("ascending"), std::string::npos) << order;
   const std::string speed_alone = error(
       "[scene]\n[[body]]\nname = \"rod\"\ntype = \"flexible\"\nsuperelement = \"clamped.h5\"\nspeed = 2\n");
   EXPECT_NE(speed_alone.find(".speed'"), std::string::npos) << speed_alone;
