@@ -34,20 +34,23 @@ std::string slider_crank(int cycles) {
 /// signal did not land inside the run. (The signal's time follows the machine: a fixed time missed the run
 /// on a machine, or a build, fast enough to finish before it.)
 std::pair<std::filesystem::path, std::filesystem::path> whole_and_restarted(const std::string& text,
-                                                                          const std::string& name, double fraction) {
+                                                                            const std::string& name,
+                                                                            double fraction) {
   const auto scene = testing::temp_path(name + ".toml");
   std::ofstream(scene) << text;
   const std::string solve = std::string(NVH_BINARY_DIR) + "/solve/solve ";
   const auto whole = testing::temp_path(name + "_whole.h5"), parts = testing::temp_path(name + "_parts.h5");
   const auto start = std::chrono::steady_clock::now();
   EXPECT_EQ(WEXITSTATUS(std::system((solve + scene.string() + " -o " + whole.string() + " -q").c_str())), 0);
-  const double seconds = fraction * std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double seconds =
+      fraction * std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
   // Stop the second run part-way with SIGTERM, then continue it.
-  const int stopped = std::system(("timeout --preserve-status -s TERM " + std::to_string(seconds) + " " + solve +
-                                   scene.string() + " -o " + parts.string() + " -q 2>/dev/null")
+  const int stopped = std::system(("timeout --preserve-status -s TERM " + std::to_string(seconds) + " " +
+                                   solve + scene.string() + " -o " + parts.string() + " -q 2>/dev/null")
                                       .c_str());
-  if (!std::filesystem::exists(parts)) {  // the signal came before the results file existed: nothing to restart
+  if (!std::filesystem::exists(
+          parts)) {  // the signal came before the results file existed: nothing to restart
     EXPECT_EQ(WEXITSTATUS(stopped), 3);
     return {};
   }
@@ -57,7 +60,9 @@ std::pair<std::filesystem::path, std::filesystem::path> whole_and_restarted(cons
     EXPECT_EQ(WEXITSTATUS(stopped), 3);
     EXPECT_EQ(f.root().string_attribute("status"), "interrupted");
   }
-  EXPECT_EQ(WEXITSTATUS(std::system((solve + scene.string() + " -o " + parts.string() + " --restart -q").c_str())), 0);
+  EXPECT_EQ(
+      WEXITSTATUS(std::system((solve + scene.string() + " -o " + parts.string() + " --restart -q").c_str())),
+      0);
   const h5::File f = h5::File::open_read(parts);
   EXPECT_EQ(f.root().string_attribute("status"), "complete");
   return {whole, parts};
@@ -76,7 +81,8 @@ TEST(SolveRestart, InterruptedAndRestartedRunEqualsAnUninterruptedOne) {
 
 // Element states and the energy integrals are unknowns of the state vector: a restart continues them from the
 // checkpoint. A torsional spring-damper from the driven crank to ground winds up by 2 pi per revolution (its
-// twist state reaches 251 rad, far beyond any wrap), a Maxwell mount on the piston carries a damper deflection.
+// twist state reaches 251 rad, far beyond any wrap), a Maxwell mount on the piston carries a damper
+// deflection.
 TEST(SolveRestart, ElementStatesAndEnergyContinueAcrossARestart) {
   const std::string elements = R"(
 [[force]]
@@ -117,6 +123,84 @@ c = 100.0
   compare("forces/mount/states/damper_deflection", 1e-7);
   compare("energy/dissipated", 1e-6 * std::abs(testing::signal(whole, "energy/dissipated").maxCoeff()));
   compare("energy/balance", 1e-6 * std::abs(testing::signal(whole, "energy/input").cwiseAbs().maxCoeff()));
+}
+
+// A flexible body on a fixed axis (`axis`, solve/flexible_rotor_body.hpp) across a restart: the valvetrain's
+// rocker clamped at its pivot (testdata/valvetrain/rocker_on_shaft.toml, condensed here by the condense
+// tool), swinging on its return spring from 20 rad/s with its foot on a stiff spring, so that its modes ring:
+// its angle, its modal coordinates and the support's force continue from the checkpoint.
+TEST(SolveRestart, FlexibleBodyOnAFixedAxisContinuesAcrossARestart) {
+  const auto superelement = testing::temp_path("restart_rocker_on_shaft.h5");
+  ASSERT_EQ(WEXITSTATUS(
+                std::system((std::string(NVH_BINARY_DIR) + "/condense/condense " + NVH_SOURCE_DIR +
+                             "/testdata/valvetrain/rocker_on_shaft.toml -o " + superelement.string() + " -q")
+                                .c_str())),
+            0);
+  const std::string text = R"([scene]
+gravity = [0, -9.81, 0]
+[[body]]
+name = "ground"
+type = "ground"
+  [[body.marker]]
+  name = "pivot"
+  [[body.marker]]
+  name = "anchor"
+  at = [0.058, -0.02, 0]
+[[body]]
+name = "rocker"
+type = "flexible"
+superelement = ")" + superelement.string() +
+                           R"("
+axis = [0, 0, 1]
+speed = 20.0
+[[force]]
+name = "return"
+type = "torsional-spring-damper"
+i = "rocker.pivot"
+j = "ground.pivot"
+k = 10.0
+d = 0.01
+[[force]]
+name = "foot"
+type = "spring-damper"
+i = "rocker.foot"
+j = "ground.anchor"
+k = 1e6
+d = 5.0
+free_length = 0.02
+[clock]
+end_time = 0.15
+[integrator]
+rtol = 1e-8
+atol = 1e-11
+[output]
+sample_rate_hz = 10000
+chunk_samples = 200
+)";
+  const auto [whole, parts] = whole_and_restarted(text, "restart_flexible_rotor", 0.6);
+  if (whole.empty()) GTEST_SKIP() << "the signal did not land inside the run";
+  ASSERT_EQ(testing::signal(whole, "time").size(), testing::signal(parts, "time").size());
+  const auto worst = [&](const std::string& dataset) {
+    const Eigen::MatrixXd a = testing::matrix(whole, dataset), b = testing::matrix(parts, dataset);
+    EXPECT_EQ(a.rows(), b.rows()) << dataset;
+    return a.rows() == b.rows() ? (a - b).cwiseAbs().maxCoeff() : 1e300;
+  };
+  const double angle = (testing::signal(whole, "bodies/rocker/coordinate") -
+                        testing::signal(parts, "bodies/rocker/coordinate"))
+                           .cwiseAbs()
+                           .maxCoeff();
+  const double modal = worst("bodies/rocker/modal_coordinates"),
+               support = worst("bodies/rocker/support_force");
+  const double support_peak = testing::matrix(whole, "bodies/rocker/support_force").cwiseAbs().maxCoeff();
+  const double swing = testing::signal(whole, "bodies/rocker/coordinate").cwiseAbs().maxCoeff(),
+               modal_peak = testing::matrix(whole, "bodies/rocker/modal_coordinates").cwiseAbs().maxCoeff();
+  std::printf(
+      "measured: restart of a flexible body on an axis: angle %.2e rad (of %.3f), modal coordinates "
+      "%.2e (of %.2e), support force %.2e N (peak %.1f N)\n",
+      angle, swing, modal, modal_peak, support, support_peak);
+  EXPECT_LT(angle, 1e-6 * swing);  // rad: the integration error (rtol 1e-8) accumulated over the swing
+  EXPECT_LT(modal, 1e-6 * modal_peak);
+  EXPECT_LT(support, 1e-6 * support_peak);  // N
 }
 
 /// Starts `solve SCENE -o OUTPUT [--restart] -q` (output to /dev/null); returns its pid.
