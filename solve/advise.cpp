@@ -251,6 +251,7 @@ Advice advise(Scene& scene, const AdviceOptions& options, const Logger& log) {
     const Eigen::VectorXd& used = flex->data().frequency_hz;
     const Eigen::VectorXd all = load_flexible_data(flex->data().file, 0).frequency_hz;
     f.modes_used = static_cast<int>(used.size());
+    f.mode_numbers = flex->data().mode_numbers;
     f.modes_in_file = static_cast<int>(all.size());
     f.highest_used_hz = used.size() ? used.maxCoeff() : 0;
     f.highest_in_file_hz = all.size() ? all.maxCoeff() : 0;
@@ -264,7 +265,19 @@ Advice advise(Scene& scene, const AdviceOptions& options, const Logger& log) {
                            " Hz (" + num(options.cutoff_factor) +
                            " x the band): condense it again with --fmax " + num(f.cutoff_hz) +
                            " (or --band " + num(a.band_hz) + ")");
-    else if (f.modes_used < f.modes_needed)
+    else if (const std::vector<int>& chosen = flex->data().mode_numbers; !chosen.empty()) {
+      // Chosen by number: name the modes below the cut-off that the choice leaves out (a planar mechanism's
+      // out-of-plane modes may rightly be among them; the advice cannot tell what the scene excites).
+      std::string left_out;
+      for (int j = 0; j < f.modes_needed; ++j)
+        if (std::find(chosen.begin(), chosen.end(), j + 1) == chosen.end())
+          left_out += (left_out.empty() ? "" : ", ") + std::to_string(j + 1);
+      if (!left_out.empty())
+        a.warnings.push_back("flexible body '" + f.body + "' takes mode_numbers of " + file + ", which leaves out " +
+                             "its modes " + left_out + " below the cut-off " + num(f.cutoff_hz) +
+                             " Hz: right only where the scene does not excite them (a planar mechanism's "
+                             "out-of-plane modes); compare a run with them");
+    } else if (f.modes_used < f.modes_needed)
       a.warnings.push_back("flexible body '" + f.body + "' uses " + std::to_string(f.modes_used) +
                            " modes (to " + num(f.highest_used_hz) + " Hz), fewer than the " +
                            std::to_string(f.modes_needed) + " of " + file + " up to the cut-off " +
@@ -320,10 +333,19 @@ std::string format_advice(const Advice& a, const Scene& scene) {
   if (!a.flexible.empty()) {
     out << "flexible bodies (modes up to " << num(a.flexible.front().cutoff_hz / a.band_hz)
         << " x the band = " << num(a.flexible.front().cutoff_hz, 6) << " Hz):\n";
-    for (const FlexibleAdvice& f : a.flexible)
-      out << "  " << f.body << ": uses " << f.modes_used << " of the file's " << f.modes_in_file
-          << " modes (to " << num(f.highest_used_hz, 6) << " Hz; the file to " << num(f.highest_in_file_hz, 6)
-          << " Hz); recommended modes = " << f.modes_needed << "\n";
+    for (const FlexibleAdvice& f : a.flexible) {
+      out << "  " << f.body << ": uses " << f.modes_used << " of the file's " << f.modes_in_file;
+      if (!f.mode_numbers.empty()) {
+        out << " modes (mode_numbers";
+        for (std::size_t k = 0; k < f.mode_numbers.size(); ++k) out << (k ? ", " : " ") << f.mode_numbers[k];
+        out << ";";
+      } else {
+        out << " modes (";
+      }
+      out << " to " << num(f.highest_used_hz, 6) << " Hz; the file to " << num(f.highest_in_file_hz, 6)
+          << " Hz); recommended modes = " << f.modes_needed
+          << (f.mode_numbers.empty() ? "" : " by frequency, or the modes of them the scene excites") << "\n";
+    }
   }
   out << "\nrecommended (rules: docs/cli.md 'solve --advise'; measured: docs/verification.md 'Stability "
          "map'):\n";

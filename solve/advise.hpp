@@ -46,6 +46,7 @@ struct FlexibleAdvice {
   int modes_used = 0, modes_in_file = 0, modes_needed = 0;  // needed: the file's modes up to the cut-off
   double highest_used_hz = 0, highest_in_file_hz = 0, cutoff_hz = 0;
   std::string method;  // the superelement's reduction
+  std::vector<int> mode_numbers;  // the scene's `mode_numbers` (empty: the lowest modes_used)
 };
 
 struct Advice {

@@ -155,6 +155,7 @@ FlexibleData load_flexible_data(const std::filesystem::path& file, int modes, co
   d.coordinates_in_file = available;
   d.static_correction = se.static_correction;
   d.rigid_body_modes = se.rigid_body_modes_removed + se.rigid_body_modes_contained;
+  d.mode_numbers = numbers;
   d.mass = se.inertia.mass;
   d.first_moment = se.inertia.mass * se.inertia.center_of_mass;
   d.second_moment = se.inertia.second_moment;

@@ -43,6 +43,7 @@ struct FlexibleData {
   int coordinates_in_file = 0;  // elastic coordinates the file offers (the selection may take fewer)
   int static_correction = 0;    // the file's static-correction vectors (SuperelementFile::static_correction)
   int rigid_body_modes = 0;  // the file's rigid-body content (removed or contained): 0 for a supported part
+  std::vector<int> mode_numbers;  // the coordinates chosen by number (1-based, `mode_numbers`); empty: by count
   // Centrifugal geometric stiffness (empty, or six n x n matrices for the products omega_a omega_b in the
   // order xx yy zz xy yz zx; per (rad/s)^2) and the spin the stiffness was reduced at (rad/s, component
   // axes): K(omega) = K + sum_p (omega_a omega_b - ref_a ref_b) K_p (docs/hdf5-format.md, /reduced).

@@ -257,6 +257,32 @@ TEST(Advise, FlexibleBodyModesAreTheSuperelementsStoredOnes) {
   EXPECT_EQ(a.flexible[0].modes_needed, std::max<Eigen::Index>(1, needed));
 }
 
+// `mode_numbers`: a choice that leaves out modes below the cut-off is named in a warning (which ones), and
+// the count advice does not ask for `modes = N` instead; a choice of every mode below the cut-off is not
+// warned of.
+TEST(Advise, ChosenModeNumbersNameTheModesLeftOut) {
+  const fs::path beam = condensed_beam();
+  const Eigen::VectorXd stored = read_superelement(beam).frequency_hz;
+  const Eigen::Index needed = (stored.array() <= 2000.0).count();  // the band 1 kHz, cut-off 2 kHz
+  ASSERT_GE(needed, 2);
+  auto scene = [](const std::string& numbers) {
+    return "[scene]\nname = \"free-beam\"\n[[body]]\nname = \"ground\"\ntype = \"ground\"\n"
+           "[[body]]\nname = \"beam\"\ntype = \"flexible\"\nsuperelement = \"advise_beam.h5\"\nmode_numbers "
+           "= [" +
+           numbers + "]\n[clock]\nend_time = 0.01\n[output]\nsample_rate_hz = 2000\n";
+  };
+  const Advice a = advice_of(scene("2"), {}, beam.parent_path());
+  ASSERT_EQ(a.flexible.size(), 1u);
+  EXPECT_EQ(a.flexible[0].modes_used, 1);
+  EXPECT_TRUE(any_contains(a.warnings, "leaves out its modes 1"))
+      << (a.warnings.empty() ? "" : a.warnings[0]);
+  EXPECT_FALSE(any_contains(a.warnings, "modes = "));
+  std::string all;
+  for (Eigen::Index j = 1; j <= needed; ++j) all += (j > 1 ? ", " : "") + std::to_string(j);
+  const Advice b = advice_of(scene(all), {}, beam.parent_path());
+  EXPECT_FALSE(any_contains(b.warnings, "leaves out"));
+}
+
 // A superelement whose basis holds static correction (testdata/scenes/flexible_beam.toml reduced modal, 4
 // modes, with the residual modes of its two interfaces): the file says how many (/reduced static_correction);
 // a scene that takes fewer coordinates than the file has gets a warning naming the body, the file and the
