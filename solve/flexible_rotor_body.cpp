@@ -116,13 +116,39 @@ void FlexibleRotorBody::inertia_residual(std::span<const double> q, std::span<co
   Eigen::Map<Eigen::VectorXd>(rows.data() + 1, n_) = rows_.tail(n_);
 }
 
+// out = B^T X B of a (6 + n) x (6 + n) matrix X in the floating frame's velocities.
+void FlexibleRotorBody::project_velocities(const Eigen::MatrixXd& x, Eigen::Ref<Eigen::MatrixXd> out) const {
+  out(0, 0) = axis_b_.dot(x.block<3, 3>(3, 3) * axis_b_);
+  out.block(0, 1, 1, n_).noalias() = axis_b_.transpose() * x.block(3, 6, 3, n_);
+  out.block(1, 0, n_, 1).noalias() = x.block(6, 3, n_, 3) * axis_b_;
+  out.bottomRightCorner(n_, n_) = x.bottomRightCorner(n_, n_);
+}
+
+// out = (or += with `add`) B^T X dQ/dq of a (6 + n) x (7 + n) matrix X: rows in the floating frame's
+// velocities, columns in its coordinates. No heap allocation (noalias products into the blocks).
+void FlexibleRotorBody::project_positions(const Eigen::MatrixXd& x, double theta,
+                                          Eigen::Ref<Eigen::MatrixXd> out, bool add) const {
+  const Vec4 dp = dp_dtheta(theta);
+  const double corner = axis_b_.dot(x.block<3, 4>(3, 3) * dp);
+  auto row = out.block(0, 1, 1, n_);
+  auto col = out.block(1, 0, n_, 1);
+  if (add) {
+    out(0, 0) += corner;
+    row.noalias() += axis_b_.transpose() * x.block(3, 7, 3, n_);
+    col.noalias() += x.block(6, 3, n_, 4) * dp;
+    out.bottomRightCorner(n_, n_) += x.bottomRightCorner(n_, n_);
+  } else {
+    out(0, 0) = corner;
+    row.noalias() = axis_b_.transpose() * x.block(3, 7, 3, n_);
+    col.noalias() = x.block(6, 3, n_, 4) * dp;
+    out.bottomRightCorner(n_, n_) = x.bottomRightCorner(n_, n_);
+  }
+}
+
 void FlexibleRotorBody::mass_matrix(std::span<const double> q, Eigen::Ref<Eigen::MatrixXd> m) const {
   lift(q);
   frame_.mass_matrix(cs(fq_), fm_);
-  m(0, 0) = axis_b_.dot(fm_.block<3, 3>(3, 3) * axis_b_);
-  m.block(0, 1, 1, n_) = axis_b_.transpose() * fm_.block(3, 6, 3, n_);
-  m.block(1, 0, n_, 1) = m.block(0, 1, 1, n_).transpose();
-  m.bottomRightCorner(n_, n_) = fm_.bottomRightCorner(n_, n_);
+  project_velocities(fm_, m);
 }
 
 MarkerMotion FlexibleRotorBody::marker_motion(int marker, std::span<const double> q,
@@ -191,7 +217,7 @@ void FlexibleRotorBody::marker_sensitivity(int marker, std::span<const double> q
   lift(q);
   lift_rates(w, fw_);
   frame_.marker_sensitivity(marker, cs(fq_), cs(fw_), sens_);
-  out.col(0) = sens_.middleCols<4>(3) * dp_dtheta(q[0]);
+  out.col(0).noalias() = sens_.middleCols<4>(3) * dp_dtheta(q[0]);
   out.rightCols(n_) = sens_.rightCols(n_);
 }
 
@@ -200,11 +226,7 @@ void FlexibleRotorBody::add_wrench_derivative(int marker, std::span<const double
   lift(q);
   fdq_.setZero();
   frame_.add_wrench_derivative(marker, cs(fq_), force, torque, fdq_);
-  const Vec4 dp = dp_dtheta(q[0]);
-  out(0, 0) += axis_b_.dot(fdq_.block<3, 4>(3, 3) * dp);
-  out.block(0, 1, 1, n_) += axis_b_.transpose() * fdq_.block(3, 7, 3, n_);
-  out.block(1, 0, n_, 1) += fdq_.block(6, 3, n_, 4) * dp;
-  out.bottomRightCorner(n_, n_) += fdq_.bottomRightCorner(n_, n_);
+  project_positions(fdq_, q[0], out, true);
 }
 
 void FlexibleRotorBody::inertia_jacobian(std::span<const double> q, std::span<const double> w,
@@ -215,15 +237,8 @@ void FlexibleRotorBody::inertia_jacobian(std::span<const double> q, std::span<co
   lift_rates(w, fw_);
   lift_rates(wdot, fwd_);
   frame_.inertia_jacobian(cs(fq_), cs(fw_), cs(fwd_), gravity, fdq_, fdw_);
-  const Vec4 dp = dp_dtheta(q[0]);
-  d_q(0, 0) = axis_b_.dot(fdq_.block<3, 4>(3, 3) * dp);
-  d_q.block(0, 1, 1, n_) = axis_b_.transpose() * fdq_.block(3, 7, 3, n_);
-  d_q.block(1, 0, n_, 1) = fdq_.block(6, 3, n_, 4) * dp;
-  d_q.bottomRightCorner(n_, n_) = fdq_.bottomRightCorner(n_, n_);
-  d_w(0, 0) = axis_b_.dot(fdw_.block<3, 3>(3, 3) * axis_b_);
-  d_w.block(0, 1, 1, n_) = axis_b_.transpose() * fdw_.block(3, 6, 3, n_);
-  d_w.block(1, 0, n_, 1) = fdw_.block(6, 3, n_, 3) * axis_b_;
-  d_w.bottomRightCorner(n_, n_) = fdw_.bottomRightCorner(n_, n_);
+  project_positions(fdq_, q[0], d_q, false);
+  project_velocities(fdw_, d_w);
 }
 
 SupportWrench FlexibleRotorBody::support_wrench(std::span<const double> q, std::span<const double> w,

@@ -99,6 +99,11 @@ class FlexibleRotorBody final : public Body {
   void lift(std::span<const double> q) const;
   void lift_rates(std::span<const double> w, Eigen::VectorXd& out) const;
   Vec4 dp_dtheta(double theta) const;
+  /// B^T X B (velocities by velocities) and B^T X dQ/dq (velocities by coordinates) of the floating frame's
+  /// matrices, into the body's layout (flexible_rotor_body.cpp).
+  void project_velocities(const Eigen::MatrixXd& x, Eigen::Ref<Eigen::MatrixXd> out) const;
+  void project_positions(const Eigen::MatrixXd& x, double theta, Eigen::Ref<Eigen::MatrixXd> out,
+                         bool add) const;
 
   FlexibleBody frame_;
   int n_;
