@@ -242,8 +242,7 @@ Advice advise(Scene& scene, const AdviceOptions& options, const Logger& log) {
 
   // Flexible bodies.
   for (const auto& body : model.bodies) {
-    const auto* rotor = dynamic_cast<const FlexibleRotorBody*>(body.get());
-    const auto* flex = rotor ? &rotor->frame() : dynamic_cast<const FlexibleBody*>(body.get());
+    const FlexibleBody* flex = flexible_part(*body);
     if (!flex) continue;
     FlexibleAdvice f;
     f.body = flex->name();

@@ -824,8 +824,7 @@ std::unique_ptr<Body> make_flexible_body(const input::Table& t, const std::strin
     user_points.push_back(found);
   }
   if (!t.has("axis")) {
-    for (const char* key : {"speed"})
-      if (t.has(key)) t.fail(key, "only a flexible body on a fixed axis (`axis`) takes an initial `speed`");
+    if (t.has("speed")) t.fail("speed", "only a flexible body on a fixed axis (`axis`) takes an initial `speed`");
     return std::make_unique<FlexibleBody>(name, std::move(data), coupling, init, eta0, eta_rate0,
                                           std::move(user_points));
   }

@@ -252,6 +252,11 @@ SupportWrench FlexibleRotorBody::support_wrench(std::span<const double> q, std::
   return {rows_.head<3>() - force, a * rows_.segment<3>(3) - torque_about_pivot};
 }
 
+const FlexibleBody* flexible_part(const Body& body) {
+  if (const auto* rotor = dynamic_cast<const FlexibleRotorBody*>(&body)) return &rotor->frame();
+  return dynamic_cast<const FlexibleBody*>(&body);
+}
+
 std::string fixed_axis_basis_problem(const FlexibleData& data, const std::string& file) {
   if (data.rigid_body_modes > 0)
     return file + " holds " + std::to_string(data.rigid_body_modes) +

@@ -120,6 +120,11 @@ class FlexibleRotorBody final : public Body {
   mutable Mat3X jv_, jw_;
 };
 
+/// The floating-frame body of a flexible body: `body` itself, or the frame of one on a fixed axis; null for
+/// any other body. Its data() are the superelement's as the scene uses them; its modal coordinates are the
+/// last modes() of the body's positions either way.
+const FlexibleBody* flexible_part(const Body& body);
+
 /// Why a superelement cannot turn on a fixed axis through its frame's origin (empty if it can): it must
 /// have no rigid-body content (condensed with the pivot fixed), and a point of it at the origin must not
 /// move elastically.

@@ -169,9 +169,8 @@ Linearization linearize(const Model& model, double t, const VectorXd& y, const V
       const int o = model.body_offset(static_cast<int>(bi));
       const Eigen::VectorXcd w = x.segment(o + body.position_count(), body.velocity_count());
       kinetic.emplace_back(body.name(), (w.adjoint() * mass[bi] * w)(0).real());
-      const auto* rotor = dynamic_cast<const FlexibleRotorBody*>(&body);
-      if (const auto* flex = rotor ? &rotor->frame() : dynamic_cast<const FlexibleBody*>(&body)) {
-        const Eigen::VectorXcd eta = x.segment(o + (rotor ? 1 : 7), flex->modes());
+      if (const FlexibleBody* flex = flexible_part(body)) {  // its modal coordinates end its positions
+        const Eigen::VectorXcd eta = x.segment(o + body.position_count() - flex->modes(), flex->modes());
         elastic.emplace_back(body.name() + " (elastic)",
                              (eta.adjoint() * flex->data().stiffness * eta)(0).real());
       }

@@ -39,8 +39,8 @@ std::vector<Signal> signals_of(const Scene& s) {
         out.push_back({"bodies/" + b->name() + "/euler_parameters", 4, "1"});
         out.push_back({"bodies/" + b->name() + "/angular_velocity", 3, "rad/s"});
       }
-      if (b->kind() == "flexible" || b->kind() == "flexible-rotor") {  // the elastic coordinates and their
-        const int n = b->kind() == "flexible" ? b->position_count() - 7 : b->position_count() - 1;  // rates
+      if (flexible_part(*b) != nullptr) {  // the elastic coordinates and their
+        const int n = flexible_part(*b)->modes();  // rates
         out.push_back({"bodies/" + b->name() + "/modal_coordinates", n, "superelement coordinates"});
         out.push_back({"bodies/" + b->name() + "/modal_velocities", n, "superelement coordinates / s"});
       }

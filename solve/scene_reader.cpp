@@ -178,8 +178,7 @@ class SceneReader {
 
       // Fewer coordinates than a file with static correction holds drop that correction (its vectors lie
       // above the band, or are mixed into the orthonormalized modes): allowed, but say so.
-      const auto* rotor = dynamic_cast<const FlexibleRotorBody*>(body.get());
-      const FlexibleData& d = rotor ? rotor->frame().data() : static_cast<const FlexibleBody&>(*body).data();
+      const FlexibleData& d = flexible_part(*body)->data();
       if (d.static_correction > 0 && d.size() < d.coordinates_in_file) {
         const SourceLocation at = t.location(t.has("mode_numbers") ? "mode_numbers" : "modes");
         s_.warnings.push_back(
