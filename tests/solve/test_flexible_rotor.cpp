@@ -91,6 +91,15 @@ std::string rotor_scene(const std::string& superelement, const std::string& grav
          "\"\naxis = [0, 0, 1]\n" + extra + "[clock]\nend_time = 0.01\n";
 }
 
+/// The model linearised at its consistent start.
+Linearization linearized_at_rest(Model& model) {
+  std::ostringstream sink;
+  const Logger log(sink, "test", Verbosity::kQuiet);
+  Eigen::VectorXd y, yp;
+  model.consistent_initial_state(0.0, y, yp, log);
+  return linearize(model, 0.0, y, yp);
+}
+
 // ---------------------------------------------------------------- 1. the pinned-free rod
 TEST(FlexibleRotor, ClampedRodOnTheAxisHasThePinnedFreeFrequencies) {
   const fs::path dir = temp_dir("blevins");
@@ -98,11 +107,7 @@ TEST(FlexibleRotor, ClampedRodOnTheAxisHasThePinnedFreeFrequencies) {
   Scene s = parse_scene(rotor_scene("rod.h5", "[0, 0, 0]"), "rod.toml", dir);
   ASSERT_EQ(s.model.bodies[0]->kind(), "flexible-rotor");
   ASSERT_EQ(s.model.bodies[0]->state_count(), 2 * (1 + 24));  // theta, eta and their rates: no multiplier
-  std::ostringstream sink;
-  const Logger log(sink, "test", Verbosity::kQuiet);
-  Eigen::VectorXd y, yp;
-  s.model.consistent_initial_state(0.0, y, yp, log);
-  const Linearization lin = linearize(s.model, 0.0, y, yp);
+  const Linearization lin = linearized_at_rest(s.model);
 
   const double area = kPi * kDiameter * kDiameter / 4, inertia = kPi * std::pow(kDiameter, 4) / 64;
   const Steel steel;
@@ -150,11 +155,7 @@ TEST(FlexibleRotor, ChosenModeNumbersKeepThePlaneOfRotation) {
   Scene s =
       parse_scene(rotor_scene("rod.h5", "[0, 0, 0]", "mode_numbers = [" + numbers + "]\n"), "rod.toml", dir);
   ASSERT_EQ(s.model.bodies[0]->state_count(), 2 * (1 + chosen));
-  std::ostringstream sink;
-  const Logger log(sink, "test", Verbosity::kQuiet);
-  Eigen::VectorXd y, yp;
-  s.model.consistent_initial_state(0.0, y, yp, log);
-  const Linearization lin = linearize(s.model, 0.0, y, yp);
+  const Linearization lin = linearized_at_rest(s.model);
   const double area = kPi * kDiameter * kDiameter / 4, iy = kPi * std::pow(kDiameter, 4) / 64;
   const Steel steel;
   const double scale = std::sqrt(steel.E * 2 * iy / (steel.rho * area)) / (2 * kPi * kLength * kLength);

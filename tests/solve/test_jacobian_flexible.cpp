@@ -425,6 +425,31 @@ TEST(FlexibleJacobianFunctions, DoNotAllocate) {
 #endif
 }
 
+#if defined(NVH_COUNT_ALLOCATIONS)
+/// Heap allocations of one Model::residual and one Model::jacobian at the consistent start, once the
+/// workspace is warm.
+std::pair<long, long> allocations_of(Model& m) {
+  std::ostringstream sink;
+  const Logger log(sink, "test", Verbosity::kQuiet);
+  Eigen::VectorXd y, yp;
+  m.consistent_initial_state(0.0, y, yp, log);
+  Eigen::VectorXd f(m.size());
+  std::vector<double> values;
+  m.residual(0.0, y.data(), yp.data(), f.data());
+  m.jacobian(0.0, y.data(), yp.data(), 100.0, values);  // warm: the workspace and `values` get their sizes
+  g_allocations = 0;
+  g_counting = true;
+  m.residual(0.001, y.data(), yp.data(), f.data());
+  g_counting = false;
+  const long residual = g_allocations.load();
+  g_allocations = 0;
+  g_counting = true;
+  m.jacobian(0.001, y.data(), yp.data(), 200.0, values);
+  g_counting = false;
+  return {residual, g_allocations.load()};
+}
+#endif
+
 // The whole model: a flexible and a rigid body, a revolute joint, a spring-damper and a load. The residual
 // (called once per Newton iteration) and the Jacobian allocate nothing once the workspace is warm.
 TEST(ModelResidualAndJacobian, DoNotAllocate) {
@@ -433,25 +458,7 @@ TEST(ModelResidualAndJacobian, DoNotAllocate) {
   write_beam(dir / "beam.h5", condense::ReductionMethod::kModal, true, 30);
   for (const char* coupling : {"full", "linear"}) {
     Scene s = parse_scene(flexible_scene(coupling, 0), "flexible_jacobian.toml", dir);
-    Model& m = s.model;
-    std::ostringstream sink;
-    const Logger log(sink, "test", Verbosity::kQuiet);
-    Eigen::VectorXd y, yp;
-    m.consistent_initial_state(0.0, y, yp, log);
-    Eigen::VectorXd f(m.size());
-    std::vector<double> values;
-    m.residual(0.0, y.data(), yp.data(), f.data());
-    m.jacobian(0.0, y.data(), yp.data(), 100.0, values);  // warm: the workspace and `values` get their sizes
-    g_allocations = 0;
-    g_counting = true;
-    m.residual(0.001, y.data(), yp.data(), f.data());
-    g_counting = false;
-    const long residual = g_allocations.load();
-    g_allocations = 0;
-    g_counting = true;
-    m.jacobian(0.001, y.data(), yp.data(), 200.0, values);
-    g_counting = false;
-    const long jacobian = g_allocations.load();
+    const auto [residual, jacobian] = allocations_of(s.model);
     std::printf("measured: %s coupling: heap allocations per residual %ld, per Jacobian %ld\n", coupling,
                 residual, jacobian);
     EXPECT_EQ(residual, 0) << coupling;
@@ -519,26 +526,8 @@ table = [[0.0, 5.0], [1.0, 5.0]]
 end_time = 0.01
 )",
                         "rotor_alloc.toml", dir);
-  Model& m = s.model;
-  ASSERT_EQ(m.bodies[0]->kind(), "flexible-rotor");
-  std::ostringstream sink;
-  const Logger log(sink, "test", Verbosity::kQuiet);
-  Eigen::VectorXd y, yp;
-  m.consistent_initial_state(0.0, y, yp, log);
-  Eigen::VectorXd f(m.size());
-  std::vector<double> values;
-  m.residual(0.0, y.data(), yp.data(), f.data());
-  m.jacobian(0.0, y.data(), yp.data(), 100.0, values);  // warm
-  g_allocations = 0;
-  g_counting = true;
-  m.residual(0.001, y.data(), yp.data(), f.data());
-  g_counting = false;
-  const long residual = g_allocations.load();
-  g_allocations = 0;
-  g_counting = true;
-  m.jacobian(0.001, y.data(), yp.data(), 200.0, values);
-  g_counting = false;
-  const long jacobian = g_allocations.load();
+  ASSERT_EQ(s.model.bodies[0]->kind(), "flexible-rotor");
+  const auto [residual, jacobian] = allocations_of(s.model);
   std::printf("measured: on a fixed axis: heap allocations per residual %ld, per Jacobian %ld\n", residual,
               jacobian);
   EXPECT_EQ(residual, 0);
